@@ -1,0 +1,105 @@
+"""The Module API of language.md §5.4: the one table that the checker, the compiler, hover,
+completion, signature help and the editor grammar read (DESIGN.md rule 1)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+from rdcd_core.types import Type
+
+
+class CallForm(StrEnum):
+    SELF = "self"  # self.name(...)
+    FUNCTION = "function"  # name(...)
+
+
+@dataclass(frozen=True, slots=True)
+class Param:
+    name: str
+    type: Type
+
+
+@dataclass(frozen=True, slots=True)
+class Primitive:
+    name: str
+    form: CallForm
+    params: tuple[Param, ...]
+    result: Type
+    doc: str
+
+    @property
+    def is_query(self) -> bool:
+        """A zero-argument primitive with a value: may be written without parentheses."""
+        return self.form is CallForm.SELF and not self.params and self.result is not Type.VOID
+
+    @property
+    def block_param(self) -> int | None:
+        for index, param in enumerate(self.params):
+            if param.type is Type.BLOCK:
+                return index
+        return None
+
+    @property
+    def signature(self) -> str:
+        params = ", ".join(f"{p.name}: {p.type.value}" for p in self.params)
+        prefix = "self." if self.form is CallForm.SELF else ""
+        return f"{prefix}{self.name}({params}) -> {self.result.value}"
+
+
+def _p(name: str, type_: Type) -> Param:
+    return Param(name, type_)
+
+
+_S, _F = CallForm.SELF, CallForm.FUNCTION
+_EVENT = (_p("e", Type.EVENT),)
+
+PRIMITIVES: tuple[Primitive, ...] = (
+    Primitive("center_position", _S, (), Type.AXIS,
+              "The axis of the module's own rotation joint, in the structure's compass frame."),
+    Primitive("total_connected", _S, (), Type.CONNSET,
+              "The connectors that have a neighbour attached."),
+    Primitive("connected", _S, (_p("d", Type.DIR),), Type.CONNSET,
+              "The attached connectors that face direction d."),
+    Primitive("x", _S, (), Type.INT,
+              "Lattice x coordinate (east) relative to the module where the program entered."),
+    Primitive("y", _S, (), Type.INT,
+              "Lattice y coordinate (north) relative to the module where the program entered."),
+    Primitive("z", _S, (), Type.INT,
+              "Lattice z coordinate (up) relative to the module where the program entered."),
+    Primitive("sizeof", _F, (_p("s", Type.CONNSET),), Type.INT,
+              "The number of connectors in s."),
+    Primitive("connected_role", _F, (_p("d", Type.DIR), _p("R", Type.ROLE)), Type.CONNSET,
+              "Connectors facing d whose neighbour plays R, a sub-role of R, or R as a mixin."),
+    Primitive("turnContinuously", _S, (_p("v", Type.INT),), Type.VOID,
+              "Rotate continuously: v > 0 clockwise, v < 0 counter-clockwise, speed abs(v)."),
+    Primitive("turnTowards", _S, (_p("deg", Type.INT),), Type.VOID,
+              "Rotate to the absolute joint angle deg: a multiple of 10 in -180..170."),
+    Primitive("turnDegrees", _S, (_p("deg", Type.INT),), Type.VOID,
+              "Rotate by deg degrees relative to the current angle: a multiple of 10."),
+    Primitive("stopTurning", _S, (), Type.VOID, "Stop the joint."),
+    Primitive("sleepWhileTurning", _S, (_p("n", Type.INT),), Type.VOID,
+              "Wait until the joint has made n full turns."),
+    Primitive("sleep", _S, (), Type.VOID, "Wait one second."),
+    Primitive("handleEvent", _S, (_p("e", Type.EVENT), _p("b", Type.BLOCK)), Type.VOID,
+              "Install block b as the handler of event e."),
+    Primitive("disableEvent", _S, _EVENT, Type.VOID, "Disable the handler of event e."),
+    Primitive("enableEvent", _S, _EVENT, Type.VOID, "Re-enable the handler of event e."),
+    Primitive("clearEvent", _S, _EVENT, Type.VOID, "Remove the handler of event e."),
+    Primitive("assumeRole", _S, (_p("M", Type.ROLE), _p("b", Type.BLOCK)), Type.VOID,
+              "Play mixin M while b runs, then return to the previous role; "
+              "neighbours are notified both times."),
+    Primitive("setLed", _S, (_p("v", Type.INT),), Type.VOID,
+              "Show v on the module's LEDs (debugging)."),
+)
+
+SELF_PRIMITIVES: dict[str, Primitive] = {p.name: p for p in PRIMITIVES if p.form is CallForm.SELF}
+FUNCTIONS: dict[str, Primitive] = {p.name: p for p in PRIMITIVES if p.form is CallForm.FUNCTION}
+
+
+def lookup_self(name: str) -> Primitive | None:
+    return SELF_PRIMITIVES.get(name)
+
+
+def lookup_function(name: str) -> Primitive | None:
+    return FUNCTIONS.get(name)

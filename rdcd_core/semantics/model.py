@@ -1,0 +1,134 @@
+"""The checked Program model: what the semantic analysis produces and what the compiler, the
+formatter's callers and the language server read.
+
+``rdcd_core.semantics.analyze(program_ast) -> Model`` builds it (with diagnostics); it is built
+even for programs with errors, as far as it can be.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.syntax import ast
+from rdcd_core.types import Type
+
+ROOT_ROLE = "Module"
+
+
+class RoleKind(StrEnum):
+    CONCRETE = "concrete"
+    ABSTRACT = "abstract"
+    MIXIN = "mixin"
+
+
+@dataclass(frozen=True, slots=True)
+class Value:
+    """A folded compile-time value: an int8, or the code of an axis, dir, event or role."""
+
+    type: Type
+    value: int
+
+
+@dataclass(slots=True)
+class ConstantSymbol:
+    name: str
+    owner: str  # the role whose declaration this entry is (after copy-down)
+    declaration: ast.Name  # where it is declared (abstract) or defined
+    definition: ast.ConstantDef | None  # None while abstract
+    value: Value | None  # folded value; None if abstract or not foldable
+
+
+@dataclass(slots=True)
+class MethodSymbol:
+    name: str
+    owner: str  # the role that declares the body (or the abstract declaration)
+    decl: ast.MethodDecl
+    kind: ast.MethodKind
+
+    @property
+    def is_abstract(self) -> bool:
+        return self.decl.body is None
+
+
+@dataclass(slots=True)
+class InvariantSymbol:
+    owner: str
+    decl: ast.Invariant
+
+
+@dataclass(slots=True)
+class RoleSymbol:
+    name: str
+    kind: RoleKind
+    decl: ast.RoleDecl | None  # None only for the predefined root `Module`
+    parent: str | None  # the role it extends (None for Module, and for a mixin)
+    modifies: str | None  # for a mixin: the role it modifies
+    # After copy-down (inherited members included, overrides replacing them). For a mixin these
+    # hold only its own members.
+    constants: dict[str, ConstantSymbol] = field(default_factory=dict)
+    methods: dict[str, MethodSymbol] = field(default_factory=dict)
+    invariants: list[InvariantSymbol] = field(default_factory=list)
+
+    @property
+    def is_mixin(self) -> bool:
+        return self.kind is RoleKind.MIXIN
+
+
+@dataclass(frozen=True, slots=True)
+class Reference:
+    """A name occurrence resolved to a symbol: for navigation, rename, highlight and hover.
+
+    ``kind`` is one of: role, constant, method, command, primitive, predefined.
+    ``target`` is the role name (role), ``Role.member`` (constant, method, command),
+    or the primitive / predefined value name. ``is_definition`` marks declarations.
+    """
+
+    name: ast.Name
+    kind: str
+    target: str
+    is_definition: bool = False
+
+
+@dataclass(slots=True)
+class Model:
+    program: ast.Program
+    roles: dict[str, RoleSymbol]  # includes the root `Module`
+    deployment: list[str]  # deployed role names, in order (valid ones only)
+    diagnostics: list[diag.Diagnostic]
+    references: list[Reference] = field(default_factory=list)
+
+    # -- hierarchy queries -------------------------------------------------------------
+    def ancestors(self, name: str) -> list[str]:
+        """``name`` and the roles it extends, nearest first, up to Module (cycles cut)."""
+        chain: list[str] = []
+        current: str | None = name
+        while current is not None and current in self.roles and current not in chain:
+            chain.append(current)
+            current = self.roles[current].parent
+        return chain
+
+    def is_subrole(self, name: str, ancestor: str) -> bool:
+        """``name`` is ``ancestor`` or extends it, directly or not."""
+        return ancestor in self.ancestors(name)
+
+    def subroles(self, name: str) -> list[str]:
+        """Every non-mixin role that is ``name`` or extends it."""
+        return [r for r, s in self.roles.items() if not s.is_mixin and self.is_subrole(r, name)]
+
+    def concrete_subroles(self, name: str) -> list[str]:
+        return [r for r in self.subroles(name) if self.roles[r].kind is RoleKind.CONCRETE]
+
+    def mixins_of(self, name: str) -> list[str]:
+        """Mixins applicable to role ``name`` (they modify it or one of its ancestors)."""
+        ancestors = set(self.ancestors(name))
+        return [r for r, s in self.roles.items() if s.is_mixin and s.modifies in ancestors]
+
+    def role_of(self, decl: ast.RoleDecl) -> RoleSymbol | None:
+        symbol = self.roles.get(decl.name.text)
+        return symbol if symbol is not None and symbol.decl is decl else None
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is diag.Severity.ERROR for d in self.diagnostics)

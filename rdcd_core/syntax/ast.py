@@ -1,0 +1,266 @@
+"""The RDCD abstract syntax tree: frozen dataclasses, every node with its exact source span.
+
+The grammar is ``spec/language.md`` §2. Parentheses are kept (``Paren``) so that the formatter
+can reproduce what the user wrote; analyses look through them with ``unparen``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from enum import StrEnum
+from typing import Any, Union
+
+from rdcd_core.source import Span
+
+
+@dataclass(frozen=True, slots=True)
+class Name:
+    """An identifier occurrence."""
+
+    text: str
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Comment:
+    text: str  # including the // or /* */ delimiters
+    span: Span
+
+
+# ----------------------------------------------------------------------------- expressions
+
+
+@dataclass(frozen=True, slots=True)
+class IntLit:
+    value: int  # non-negative as written; unary minus is a Unary node
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class NameRef:
+    """A bare name in an expression: a constant, a predefined value or a role."""
+
+    name: Name
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    op: str  # "-" or "!"
+    operand: Expr
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    op: str  # || && == != < > <= >= + -
+    left: Expr
+    right: Expr
+    span: Span
+    op_span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Paren:
+    expr: Expr
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class SelfCall:
+    """``self.name(args)`` or ``self.name`` (``has_parens`` False: a zero-argument query)."""
+
+    name: Name
+    args: tuple[Arg, ...]
+    has_parens: bool
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class FunctionCall:
+    """``name(args)``: the functions ``sizeof`` and ``connected_role``."""
+
+    name: Name
+    args: tuple[Arg, ...]
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class GlobalCall:
+    """``Role.command()``: a global command call."""
+
+    role: Name
+    name: Name
+    args: tuple[Arg, ...]
+    span: Span
+
+
+Call = Union[SelfCall, FunctionCall, GlobalCall]
+Expr = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall]
+
+# ----------------------------------------------------------------------------- statements
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    statements: tuple[Stmt, ...]
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class EmptyStmt:
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class CallStmt:
+    call: Call
+    span: Span  # includes the trailing ';'
+
+
+@dataclass(frozen=True, slots=True)
+class IfStmt:
+    condition: Expr
+    then_body: Stmt
+    else_body: Stmt | None
+    span: Span
+    else_span: Span | None = None  # the 'else' keyword
+
+
+Stmt = Union[Block, EmptyStmt, CallStmt, IfStmt]
+Arg = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall, Block]
+
+# ----------------------------------------------------------------------------- members
+
+
+@dataclass(frozen=True, slots=True)
+class AbstractConstants:
+    """``abstract constant a, b;``"""
+
+    names: tuple[Name, ...]
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class ConstantDef:
+    """``constant a := expr;``"""
+
+    name: Name
+    value: Expr
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Invariant:
+    expr: Expr
+    span: Span
+
+
+class MethodKind(StrEnum):
+    STARTUP = "startup"
+    BEHAVIOR = "behavior"
+    COMMAND = "command"
+    PLAIN = "plain"
+
+
+@dataclass(frozen=True, slots=True)
+class Modifier:
+    keyword: str  # abstract | startup | behavior | command
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class MethodDecl:
+    name: Name
+    modifiers: tuple[Modifier, ...]
+    body: Block | None  # None for `abstract m();`
+    span: Span
+
+    @property
+    def is_abstract(self) -> bool:
+        return any(m.keyword == "abstract" for m in self.modifiers)
+
+    @property
+    def kind(self) -> MethodKind:
+        for modifier in self.modifiers:
+            if modifier.keyword != "abstract":
+                return MethodKind(modifier.keyword)
+        return MethodKind.PLAIN
+
+
+Member = Union[AbstractConstants, ConstantDef, Invariant, MethodDecl]
+
+# ----------------------------------------------------------------------------- program
+
+
+@dataclass(frozen=True, slots=True)
+class RoleDecl:
+    name: Name
+    is_abstract: bool
+    extends: Name | None
+    modifies: Name | None
+    members: tuple[Member, ...]
+    span: Span
+    header_span: Span  # from the first keyword to the '{'
+    abstract_span: Span | None = None  # the 'abstract' keyword, if present
+
+
+@dataclass(frozen=True, slots=True)
+class Deployment:
+    roles: tuple[Name, ...]
+    span: Span
+
+
+@dataclass(frozen=True, slots=True)
+class Program:
+    roles: tuple[RoleDecl, ...]
+    deployment: Deployment | None
+    span: Span
+    comments: tuple[Comment, ...] = field(default=())
+
+
+Node = Any  # any of the dataclasses above
+
+
+def unparen(expr: Expr) -> Expr:
+    """The expression inside any number of parentheses."""
+    while isinstance(expr, Paren):
+        expr = expr.expr
+    return expr
+
+
+def children(node: Node) -> list[Node]:
+    """Direct child nodes (names included), in source order."""
+    result: list[Node] = []
+    for f in fields(node):
+        if f.name in ("span", "op_span", "header_span", "abstract_span", "else_span", "comments"):
+            continue
+        value = getattr(node, f.name)
+        if isinstance(value, tuple):
+            result.extend(v for v in value if hasattr(v, "span"))
+        elif hasattr(value, "span"):
+            result.append(value)
+    return result
+
+
+def walk(node: Node):  # type: ignore[no-untyped-def]
+    """Pre-order traversal of ``node`` and all its descendants."""
+    stack = [node]
+    while stack:
+        current = stack.pop()
+        yield current
+        stack.extend(reversed(children(current)))
+
+
+def strip_spans(node: Any) -> Any:
+    """A span-free, comment-free structural form of a tree, for comparing ASTs (formatter tests)."""
+    if isinstance(node, tuple):
+        return tuple(strip_spans(v) for v in node)
+    if hasattr(node, "__dataclass_fields__") and not isinstance(node, Span):
+        items = []
+        for f in fields(node):
+            if f.name.endswith("span") or f.name == "comments":
+                continue
+            items.append((f.name, strip_spans(getattr(node, f.name))))
+        return (type(node).__name__, tuple(items))
+    return node

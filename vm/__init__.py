@@ -1,0 +1,1 @@
+"""The DCD-VM: instruction set, interpreter, module runtime, lattice geometry and worlds."""

@@ -1,0 +1,1 @@
+"""The DCD-VM instruction set: table, assembler, disassembler, verifier."""

@@ -1,0 +1,127 @@
+"""The DCD-VM instruction set (dcd-vm.md §7): the one table that the VM, the assembler, the
+disassembler, the verifier and the compiler read (DESIGN.md rule 1).
+
+Any byte >= 128 that is not consumed as an operand is "push constant (byte - 128)".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+
+class Operand(StrEnum):
+    DIR = "dir"  # direction code 4..9
+    ROLE = "role"  # role id
+    EVENT = "event"  # event number 0..7
+    TARGET = "target"  # jump target: byte offset from the start of the fragment
+    START = "start"  # start offset of an embedded code range
+    SIZE = "size"  # size of an embedded code range
+    COMMAND = "command"  # command number (1..5 or 128+k)
+    BYTE = "byte"  # any byte (signed argument)
+    ZERO = "zero"  # a padding operand that must be 0
+
+
+@dataclass(frozen=True, slots=True)
+class Instruction:
+    opcode: int
+    name: str
+    operands: tuple[Operand, ...]
+    pops: int
+    pushes: int
+    doc: str
+    ext: bool = False  # this project's extension, refused under --strict-isa
+    no_fallthrough: bool = False  # control never reaches the next instruction
+
+    @property
+    def size(self) -> int:
+        return 1 + len(self.operands)
+
+
+_O = Operand
+
+
+def _i(opcode: int, name: str, operands: tuple[Operand, ...], pops: int, pushes: int, doc: str,
+       *, ext: bool = False, no_fallthrough: bool = False) -> Instruction:
+    return Instruction(opcode, name, operands, pops, pushes, doc, ext, no_fallthrough)
+
+
+INSTRUCTIONS: tuple[Instruction, ...] = (
+    _i(1, "CENTER_POSITION_EW", (), 0, 1, "push b(axis = EW)"),
+    _i(2, "CENTER_POSITION_NS", (), 0, 1, "push b(axis = NS)"),
+    _i(3, "CENTER_POSITION_UD", (), 0, 1, "push b(axis = UD)"),
+    _i(4, "CONNECTED", (), 0, 1, "push connset of all connected channels"),
+    _i(5, "CONNECTED_SIZEOF", (), 0, 1, "push number of connected channels"),
+    _i(6, "EQUALS_0", (), 1, 1, "pop a; push b(a = 0)"),
+    _i(7, "EQUALS_1", (), 1, 1, "pop a; push b(a = 1)"),
+    _i(8, "EQUALS_2", (), 1, 1, "pop a; push b(a = 2)"),
+    _i(9, "EQUALS_3", (), 1, 1, "pop a; push b(a = 3)"),
+    _i(10, "EQUALS_4", (), 1, 1, "pop a; push b(a = 4)"),
+    _i(11, "CONNECTED_DIR", (_O.DIR,), 0, 1, "push connset of connected channels facing d"),
+    _i(12, "CONNECTED_DIR_SIZEOF", (_O.DIR,), 0, 1, "push the size of that connset"),
+    _i(13, "END_TERMINATE", (), 0, 0, "end the run, free the slot", no_fallthrough=True),
+    _i(14, "END_REPEAT", (), 0, 0, "end the run, queue it again", no_fallthrough=True),
+    _i(15, "IF_FALSE_GOTO", (_O.TARGET,), 1, 0, "pop a; if a = 0 jump to t"),
+    _i(16, "GOTO", (_O.TARGET,), 0, 0, "jump to t", no_fallthrough=True),
+    _i(17, "SET_ROLE_NOTIFY", (_O.ROLE,), 0, 0, "set own role; notify every connected neighbour"),
+    _i(18, "MIGRATE_CONTINUE", (), 0, 0,
+       "send this program to every neighbour but the sender; end the run", no_fallthrough=True),
+    _i(19, "COORD_X", (), 0, 1, "push own x"),
+    _i(20, "COORD_Y", (), 0, 1, "push own y"),
+    _i(21, "COORD_Z", (), 0, 1, "push own z"),
+    _i(22, "GREATER", (), 2, 1, "pop b, pop a; push b(a > b)"),
+    _i(23, "LESSER", (), 2, 1, "pop b, pop a; push b(a < b)"),
+    _i(24, "COORD_X_GREATER", (), 1, 1, "pop a; push b(x > a)"),
+    _i(25, "COORD_X_LESSER", (), 1, 1, "pop a; push b(x < a)"),
+    _i(26, "COORD_Y_GREATER", (), 1, 1, "pop a; push b(y > a)"),
+    _i(27, "COORD_Y_LESSER", (), 1, 1, "pop a; push b(y < a)"),
+    _i(28, "COORD_Z_GREATER", (), 1, 1, "pop a; push b(z > a)"),
+    _i(29, "COORD_Z_LESSER", (), 1, 1, "pop a; push b(z < a)"),
+    _i(30, "HANDLE_EVENT", (_O.EVENT, _O.START, _O.SIZE), 0, 0,
+       "store bytes [start, start+size) of this fragment as the handler of event e"),
+    _i(31, "SEND_COMMAND", (_O.ROLE, _O.COMMAND, _O.BYTE), 0, 0,
+       "send a command packet on all channels; run it here too if own role is an instance of role"),
+    _i(32, "CLEAR_EVENT", (_O.EVENT,), 0, 0, "remove the handler of e and free its slot"),
+    _i(33, "EVAL_COMMAND", (_O.COMMAND, _O.BYTE), 0, 0, "run command locally"),
+    _i(34, "HAS_ROLE", (_O.ROLE,), 0, 1, "push b(own role is an instance of role)"),
+    _i(35, "CONNECTED_ROLE", (_O.DIR, _O.ROLE), 0, 1,
+       "push connset of channels facing d whose cached neighbour role is an instance of role"),
+    _i(36, "CONNECTED_DOWN_ROLE", (_O.ROLE,), 0, 1, "push b(connected_role(DOWN, role) non-empty)"),
+    _i(37, "CONNECTED_UP_ROLE", (_O.ROLE,), 0, 1, "push b(connected_role(UP, role) non-empty)"),
+    _i(38, "CONNECTED_EAST_ROLE", (_O.ROLE,), 0, 1, "push b(connected_role(EAST, role) non-empty)"),
+    _i(39, "CONNECTED_WEST_ROLE", (_O.ROLE,), 0, 1, "push b(connected_role(WEST, role) non-empty)"),
+    _i(40, "CONNECTED_NORTH_ROLE", (_O.ROLE,), 0, 1,
+       "push b(connected_role(NORTH, role) non-empty)"),
+    _i(41, "CONNECTED_SOUTH_ROLE", (_O.ROLE,), 0, 1,
+       "push b(connected_role(SOUTH, role) non-empty)"),
+    _i(42, "INSTALL_COMMAND", (_O.ROLE, _O.COMMAND, _O.START, _O.SIZE), 0, 0,
+       "store bytes [start, start+size) as user command cmd for every role that is an instance of role"),
+    _i(43, "SLEEP", (), 0, 0, "wait one second"),
+    _i(44, "DISABLE_EVENT", (_O.EVENT,), 0, 0, "disable the handler of e (no-op if none)"),
+    _i(45, "ENABLE_EVENT", (_O.EVENT,), 0, 0, "enable the handler of e (no-op if none)"),
+    _i(46, "CLEAR_COMMAND_QUEUE", (_O.COMMAND,), 0, 0, "discard queued, not yet run, commands cmd"),
+    _i(47, "IF_TRUE_GOTO", (_O.TARGET,), 1, 0, "pop a; if a != 0 jump to t"),
+    _i(48, "SLEEP_ROTATIONS", (_O.BYTE,), 0, 0, "wait until the joint has made n full turns"),
+    _i(49, "SIZEOF", (), 1, 1, "pop s; push number of bits set in s"),
+    _i(50, "NEGATE", (), 1, 1, "pop a; push -a"),
+    _i(51, "ACTIVATE_DEBUG", (), 0, 0, "trace the rest of this run"),
+    _i(52, "APPLY", (), 2, 1, "pop f, pop a; run command f with argument a; push 0"),
+    _i(53, "PUSH_ARGUMENT", (_O.ZERO,), 0, 1, "push the argument the program was started with"),
+    _i(54, "PUSHC", (_O.BYTE,), 0, 1, "push byte"),
+    _i(55, "SET_LED", (_O.BYTE,), 0, 0, "show v on the LEDs"),
+    _i(56, "EQUALS", (), 2, 1, "pop b, pop a; push b(a = b)", ext=True),
+    _i(57, "ADD", (), 2, 1, "pop b, pop a; push a + b (wraps at 8 bits)", ext=True),
+    _i(58, "SUB", (), 2, 1, "pop b, pop a; push a - b (wraps at 8 bits)", ext=True),
+    _i(59, "SEND_COMMAND_STACK_ARG", (_O.ROLE, _O.COMMAND), 1, 0,
+       "like SEND_COMMAND with the argument popped", ext=True),
+    _i(60, "EVAL_COMMAND_STACK_ARG", (_O.COMMAND,), 1, 0,
+       "like EVAL_COMMAND with the argument popped", ext=True),
+    _i(127, "NOP", (), 0, 0, "nothing"),
+)
+
+BY_OPCODE: dict[int, Instruction] = {ins.opcode: ins for ins in INSTRUCTIONS}
+BY_NAME: dict[str, Instruction] = {ins.name: ins for ins in INSTRUCTIONS}
+
+PUSH_SMALL_BASE = 128  # byte 128 + v pushes v for 0 <= v <= 127
+MAX_STACK = 16
+MAX_STEPS_PER_RUN = 255
