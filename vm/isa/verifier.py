@@ -1,0 +1,141 @@
+"""The fragment verifier (dcd-vm.md §7): run on every fragment at compile time and on receipt.
+
+Checks: known opcodes, operands present and in range (directions 4..9, events 0..7, commands
+1..5 or 128..132, PUSH_ARGUMENT's padding 0); then, walking the control-flow graph from offset 0:
+jump targets inside the fragment and on instruction boundaries of the linear decoding, control
+never falling off the end, operand stack within 0..16 on every path (abstract interpretation
+tracking the set of possible depths at each instruction), HANDLE_EVENT / INSTALL_COMMAND ranges
+non-empty, inside the fragment and on boundaries, and the embedded code verified as a fragment of
+its own (its jump targets are offsets from its own start, as it is stored and run alone; its
+instructions are therefore not target-checked as part of the enclosing code). ``strict=True``
+refuses this project's extension opcodes. Returns error strings; never raises.
+"""
+
+from __future__ import annotations
+
+from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble
+from vm.isa.opcodes import BY_OPCODE, MAX_STACK, Operand
+from vm.navigation import DIRECTIONS
+
+MAX_FRAGMENT = 64  # a program slot holds at most 64 bytes
+COMMANDS = frozenset(range(1, 6)) | frozenset(range(128, 133))
+
+
+def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT) -> list[str]:
+    """Errors of a fragment ([] when it is well formed)."""
+    return _verify(bytes(code), strict, max_size, depth=0)
+
+
+def _verify(code: bytes, strict: bool, max_size: int, depth: int) -> list[str]:
+    if not code:
+        return ["empty fragment"]
+    if len(code) > max_size:
+        return [f"fragment of {len(code)} bytes exceeds the {max_size}-byte program slot"]
+    decoded = disassemble(code)
+    errors: list[str] = []
+    for d in decoded:
+        errors.extend(_check_instruction(d, code, strict))
+    if errors:
+        return errors
+    at = {d.offset: d for d in decoded}
+    return _check_flow(code, at, strict, max_size, depth)
+
+
+def _check_instruction(d: Decoded, code: bytes, strict: bool) -> list[str]:
+    where = f"offset {d.offset}"
+    if d.raw:
+        if d.opcode in BY_OPCODE:
+            return [f"{where}: {BY_OPCODE[d.opcode].name} is missing operands at the end of the fragment"]
+        return [f"{where}: unknown opcode {d.opcode}"]
+    if d.info is None:
+        return []
+    errors: list[str] = []
+    if strict and d.info.ext:
+        errors.append(f"{where}: {d.name} is an extension opcode, refused under strict ISA")
+    for kind, value in zip(d.info.operands, d.operands, strict=True):
+        if kind is Operand.DIR and value not in DIRECTIONS:
+            errors.append(f"{where}: {d.name}: direction {value} is not one of 4..9")
+        elif kind is Operand.EVENT and value > 7:
+            errors.append(f"{where}: {d.name}: event {value} is not one of 0..7")
+        elif kind is Operand.COMMAND and value not in COMMANDS:
+            errors.append(f"{where}: {d.name}: command {value} is not 1..5 or 128..132")
+        elif kind is Operand.ZERO and value != 0:
+            errors.append(f"{where}: {d.name}: operand must be 0, got {value}")
+    if d.name == "INSTALL_COMMAND" and d.operands[1] < 128:
+        errors.append(f"{where}: INSTALL_COMMAND: command {d.operands[1]} is not a user command (>= 128)")
+    return errors
+
+
+def _check_targets(d: Decoded, code: bytes, at: dict[int, Decoded], strict: bool, max_size: int,
+                   depth: int) -> list[str]:
+    if d.info is None:
+        return []
+    where = f"offset {d.offset}: {d.name}"
+    errors: list[str] = []
+    ops = dict(zip(d.info.operands, d.operands, strict=True))
+    if Operand.TARGET in ops:
+        t = ops[Operand.TARGET]
+        if t >= len(code):
+            errors.append(f"{where}: jump target {t} is outside the {len(code)}-byte fragment")
+        elif t not in at:
+            errors.append(f"{where}: jump target {t} is not on an instruction boundary")
+    if Operand.START in ops:
+        start, size = ops[Operand.START], ops[Operand.SIZE]
+        end = start + size
+        if size == 0:
+            errors.append(f"{where}: empty code range at {start}")
+        elif end > len(code):
+            errors.append(f"{where}: code range [{start}, {end}) is outside the {len(code)}-byte fragment")
+        elif start not in at or (end not in at and end != len(code)):
+            errors.append(f"{where}: code range [{start}, {end}) is not on instruction boundaries")
+        elif (start, end) != (0, len(code)) and depth < 8:
+            for e in _verify(code[start:end], strict, max_size, depth + 1):
+                errors.append(f"{where}: embedded code [{start}, {end}): {e}")
+    return errors
+
+
+def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int,
+                depth: int) -> list[str]:
+    """Walk the control-flow graph from offset 0 with the set of stack depths at each instruction.
+    Targets and code ranges are checked only where the instruction runs as part of this code:
+    an embedded handler's instructions are checked when the handler is verified on its own."""
+    seen: dict[int, set[int]] = {}
+    broken: set[int] = set()  # instructions with bad targets or ranges: not followed
+    work: list[tuple[int, int]] = [(0, 0)]
+    errors: list[str] = []
+    while work:
+        pc, stack = work.pop()
+        if pc not in seen:
+            seen[pc] = set()
+            problems = _check_targets(at[pc], code, at, strict, max_size, depth)
+            errors.extend(problems)
+            if problems:
+                broken.add(pc)
+        if pc in broken or stack in seen[pc]:
+            continue
+        seen[pc].add(stack)
+        d = at[pc]
+        pops, pushes = (0, 1) if d.name == PUSH_SMALL else (d.info.pops, d.info.pushes) if d.info else (0, 0)
+        if stack < pops:
+            errors.append(f"offset {pc}: {d.name} pops {pops} value(s) from a stack of {stack}")
+            continue
+        after = stack - pops + pushes
+        if after > MAX_STACK:
+            errors.append(f"offset {pc}: {d.name} overflows the {MAX_STACK}-entry stack")
+            continue
+        for nxt in _successors(d, len(code)):
+            if nxt >= len(code):
+                errors.append(f"offset {pc}: control falls off the end of the fragment after {d.name}")
+            else:
+                work.append((nxt, after))
+    return sorted(set(errors), key=lambda e: int(e.split(":")[0].split()[1]))
+
+
+def _successors(d: Decoded, length: int) -> list[int]:
+    if d.info is None:
+        return [d.offset + 1]
+    out = [] if d.info.no_fallthrough else [d.offset + d.size]
+    if Operand.TARGET in d.info.operands:
+        out.append(d.operands[d.info.operands.index(Operand.TARGET)])
+    return out
+

@@ -1,0 +1,97 @@
+"""Acknowledged per-link delivery for the DCD-VM (dcd-vm.md §6).
+
+Every program, command and notify packet a module sends on a physical channel is kept in an
+outbox until the neighbour acknowledges it with an ack packet (type 4: the acked id and type and
+a CRC-8 of the whole packet as received). Unacknowledged packets are sent again after
+``RETRY_INTERVAL`` seconds, the interval doubling up to ``MAX_BACKOFF`` times that (a busy
+neighbour with a full program store gets time to free a slot), with a little seeded jitter so that
+two neighbours do not stay in step, up to ``MAX_TRIES`` times (about 18 s in all). A receiver
+acknowledges every copy it accepts, including duplicates (the first ack may have been lost), and
+runs a program or command only once (duplicate suppression lives in ``vm.runtime``). A
+corrupted copy yields a different CRC and is therefore not acknowledged as the original, so the
+sender retries. A newer notify on a channel replaces an older one still waiting, so a late retry
+can never overwrite a newer role in a neighbour's cache. With loss p per packet, a try fails with
+probability 1-(1-p)^2 (packet or ack lost): at p = 10 % that is 0.19, and all 12 tries fail with
+probability < 1e-8.
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+
+from vm.hal import ModuleHal
+from vm.packets import ACK, NOTIFY, AckPacket, crc8, header_bytes, make_header, seal
+
+RETRY_INTERVAL = 0.25  # seconds
+MAX_TRIES = 12
+MAX_BACKOFF = 8
+MAX_OUTBOX = 48
+
+
+@dataclass
+class Pending:
+    channel: int
+    packet: bytes
+    checksum: int
+    due: float
+    tries: int = 1
+
+
+class Link:
+    def __init__(self, hal: ModuleHal, rng: random.Random, *, checksum: bool = False) -> None:
+        self.hal = hal
+        self.checksum = checksum
+        self.rng = rng
+        self.outbox: list[Pending] = []
+        self.sent = 0
+        self.retransmissions = 0
+        self.given_up = 0
+        self.overflows = 0
+
+    def send(self, channel: int, packet: bytes) -> None:
+        """Send reliably: keep the packet until acknowledged or out of tries."""
+        if packet[0] == NOTIFY:
+            self.outbox = [p for p in self.outbox if not (p.channel == channel and p.packet[0] == NOTIFY)]
+        if len(self.outbox) >= MAX_OUTBOX:
+            self.outbox.pop(0)
+            self.overflows += 1
+        self.outbox.append(Pending(channel, packet, crc8(packet), self._next_due(1)))
+        self._transmit(channel, packet)
+
+    def send_ack(self, channel: int, packet: bytes) -> None:
+        """Acknowledge a received packet (acks themselves are not acknowledged)."""
+        ack = AckPacket(make_header(ACK, packet[1]), packet[0], crc8(packet))
+        self._transmit(channel, header_bytes(ack.header) + bytes((ack.acked_type, ack.checksum)))
+
+    def on_ack(self, channel: int, ack: AckPacket) -> None:
+        self.outbox = [p for p in self.outbox
+                       if not (p.channel == channel and p.checksum == ack.checksum
+                               and p.packet[0] == ack.acked_type and p.packet[1] == ack.header.id)]
+
+    def tick(self) -> None:
+        """Retransmit what is due; forget what has run out of tries or lost its neighbour."""
+        now = self.hal.now()
+        connected = self.hal.connected_channels()
+        keep: list[Pending] = []
+        for p in self.outbox:
+            if p.channel not in connected:
+                continue
+            if p.due <= now:
+                if p.tries >= MAX_TRIES:
+                    self.given_up += 1
+                    continue
+                p.tries += 1
+                p.due = self._next_due(p.tries)
+                self.retransmissions += 1
+                self._transmit(p.channel, p.packet)
+            keep.append(p)
+        self.outbox = keep
+
+    def _next_due(self, tries: int) -> float:
+        backoff = min(2 ** (tries - 1), MAX_BACKOFF)
+        return self.hal.now() + RETRY_INTERVAL * backoff * (1.0 + 0.5 * self.rng.random())
+
+    def _transmit(self, channel: int, packet: bytes) -> None:
+        self.sent += 1
+        self.hal.send(channel, seal(packet) if self.checksum else packet)

@@ -1,0 +1,112 @@
+"""Per-module storage of the DCD-VM with the hardware limits of dcd-vm.md §1: program slots,
+task queue entries, event vectors and the command table. Running out is reported by the caller
+as a runtime error (``StoreFull``), never a crash.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from vm.interpreter import Frame
+
+SLOTS = 10
+SLOT_BYTES = 64
+QUEUE = 10
+VECTORS = 8
+USER_COMMANDS = 5
+PROGRAM, HANDLER, USER_COMMAND = "program", "handler", "command"
+
+
+class StoreFull(Exception):
+    pass
+
+
+@dataclass(eq=False)
+class Slot:
+    code: bytes
+    ident: int  # program id (the packet id it travels with)
+    kind: str  # PROGRAM (received or injected), HANDLER or USER_COMMAND
+    in_physical: int | None = None  # channel it came in on (None: injected or installed here)
+    context: tuple[int, int, int, int, int | None] | None = None  # x, y, z, r, incoming virtual
+    refs: int = 0  # command-table entries pointing here
+    started: bool = False  # has run at least once
+
+
+@dataclass(eq=False)
+class Task:
+    slot: Slot | None  # program to run, or None for a command task
+    arg: int = 0
+    command: int | None = None  # the command this task runs (for CLEAR_COMMAND_QUEUE)
+    frame: Frame | None = None  # None until started; kept while suspended
+    wake_time: float | None = None
+    wake_turns: float | None = None
+
+
+@dataclass
+class Vector:
+    slot: Slot
+    enabled: bool = True
+    armed: bool = True  # cleared when it fires, set again when the sensor clears or on enable
+
+
+@dataclass
+class Store:
+    slots: list[Slot] = field(default_factory=list)
+    tasks: list[Task] = field(default_factory=list)
+    vectors: list[Vector | None] = field(default_factory=lambda: [None] * VECTORS)
+    commands: dict[int, list[Slot | None]] = field(default_factory=dict)
+
+    def add_slot(self, slot: Slot) -> Slot:
+        if len(slot.code) > SLOT_BYTES:
+            raise StoreFull(f"program of {len(slot.code)} bytes exceeds the {SLOT_BYTES}-byte slot")
+        if len(self.slots) >= SLOTS:
+            raise StoreFull(f"all {SLOTS} program slots are in use")
+        self.slots.append(slot)
+        return slot
+
+    def free_slot(self, slot: Slot | None) -> None:
+        if slot is not None and any(s is slot for s in self.slots):
+            self.slots = [s for s in self.slots if s is not slot]
+
+    def queue(self, task: Task) -> None:
+        if len(self.tasks) >= QUEUE:
+            raise StoreFull(f"task queue full ({QUEUE} entries)")
+        self.tasks.append(task)
+
+    def set_vector(self, event: int, slot: Slot) -> None:
+        self.clear_vector(event)
+        self.vectors[event] = Vector(slot)
+
+    def clear_vector(self, event: int) -> None:
+        old = self.vectors[event]
+        self.vectors[event] = None
+        if old is not None and not self._slot_in_use(old.slot):
+            self.free_slot(old.slot)
+
+    def set_command(self, role: int, k: int, slot: Slot) -> None:
+        entries = self.commands.setdefault(role, [None] * USER_COMMANDS)
+        old = entries[k]
+        entries[k] = slot
+        slot.refs += 1
+        if old is not None:
+            old.refs -= 1
+            if old.refs <= 0 and not self._slot_in_use(old):
+                self.free_slot(old)
+
+    def command_slot(self, role: int, k: int) -> Slot | None:
+        entries = self.commands.get(role)
+        return entries[k] if entries and 0 <= k < USER_COMMANDS else None
+
+    def release_after_run(self, slot: Slot | None) -> None:
+        """A run of ``slot`` ended for good: free it unless something still needs it."""
+        if slot is None or self._slot_in_use(slot):
+            return
+        if slot.kind == PROGRAM:
+            self.free_slot(slot)
+        elif slot.kind == HANDLER and not any(v is not None and v.slot is slot for v in self.vectors):
+            self.free_slot(slot)
+        elif slot.kind == USER_COMMAND and slot.refs <= 0:
+            self.free_slot(slot)
+
+    def _slot_in_use(self, slot: Slot) -> bool:
+        return any(t.slot is slot for t in self.tasks)
