@@ -1,0 +1,1 @@
+"""Lattice geometry of ATRON structures and the physics-free lattice world."""

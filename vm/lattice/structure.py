@@ -1,0 +1,194 @@
+"""A structure: ATRON modules on lattice places, with their mounts and connections.
+
+Validation (``StructureError`` names the offending module): lattice parity of each position
+against its axis (dcd-vm.md §5), no two modules in one place, coordinates that fit the packets'
+signed bytes, explicit connections only between adjacent modules, a connected whole, and an
+entry module at the origin with axis NS and the identity mount (it defines the frame).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+
+from vm import navigation
+from vm.lattice.mount import IDENTITY, Mount
+
+EW, NS, UD = navigation.EAST_WEST, navigation.NORTH_SOUTH, navigation.UP_DOWN
+AXIS_NAMES = navigation.AXIS_NAMES
+AXIS_CODES = {name: code for code, name in AXIS_NAMES.items()}
+
+Vec = tuple[int, int, int]
+
+
+class StructureError(ValueError):
+    """An invalid structure; the message is one line naming the offending module."""
+
+
+@dataclass(frozen=True, slots=True)
+class ModuleSpec:
+    id: int
+    position: Vec
+    axis: int
+    mount: Mount = IDENTITY
+
+
+@dataclass(frozen=True, slots=True)
+class Link:
+    """Two connected modules and the physical connector of each that touches the other."""
+
+    a: int
+    a_physical: int
+    b: int
+    b_physical: int
+
+
+_PARITY_TEXT = {NS: "x, y, z all even", EW: "x, y odd and z even", UD: "y, z odd and x even"}
+
+
+def describe(spec: ModuleSpec) -> str:
+    return f"module {spec.id} at {tuple(spec.position)}"
+
+
+@dataclass
+class Structure:
+    """Modules by id, validated on construction (use ``make_structure``). ``neighbours`` and
+    ``links`` give, for each connection, the physical connector of each side."""
+
+    modules: dict[int, ModuleSpec]
+    entry: int
+    name: str = ""
+    explicit_connections: frozenset[frozenset[int]] | None = None
+    expected_roles: dict[int, str | None] = field(default_factory=dict)
+    _by_position: dict[Vec, int] = field(init=False, repr=False)
+    _ports: dict[int, dict[int, tuple[int, int]]] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        self._by_position = {}
+        for spec in self.modules.values():
+            _check_module(spec)
+            other = self._by_position.get(spec.position)
+            if other is not None:
+                raise StructureError(f"{describe(spec)}: place already taken by module {other}")
+            self._by_position[spec.position] = spec.id
+        self._check_entry()
+        self._check_explicit()
+        self._ports = {mid: {} for mid in self.modules}
+        for link in self._adjacent_links():
+            self._ports[link.a][link.a_physical] = (link.b, link.b_physical)
+            self._ports[link.b][link.b_physical] = (link.a, link.a_physical)
+        self._check_connected()
+
+    # --- queries -------------------------------------------------------------------------
+    def ids(self) -> list[int]:
+        return list(self.modules)
+
+    def module_at(self, position: Vec) -> int | None:
+        return self._by_position.get(tuple(position))  # type: ignore[arg-type]
+
+    def neighbours(self, module_id: int) -> dict[int, tuple[int, int]]:
+        """physical connector -> (neighbour id, the neighbour's physical connector)."""
+        return dict(self._ports[module_id])
+
+    def connected_channels(self, module_id: int) -> frozenset[int]:
+        return frozenset(self._ports[module_id])
+
+    def links(self) -> list[Link]:
+        out = []
+        for a, ports in self._ports.items():
+            for pa, (b, pb) in sorted(ports.items()):
+                if a < b:
+                    out.append(Link(a, pa, b, pb))
+        return out
+
+    def physical_direction(self, module_id: int, physical: int) -> Vec:
+        """Lattice offset, in the structure frame, that physical connector ``physical`` faces."""
+        spec = self.modules[module_id]
+        return navigation.offset(spec.axis, spec.mount.virtual_of(physical))
+
+    def free_hemisphere(self, module_id: int) -> int | None:
+        """0 if only the physical north hemisphere (connectors 0-3) is unconnected, 1 if only the
+        south one (4-7) is; None otherwise. A wheel's rubber ring sits on its free hemisphere."""
+        used = {p // 4 for p in self._ports[module_id]}
+        free = {0, 1} - used
+        return free.pop() if len(free) == 1 else None
+
+    # --- validation ----------------------------------------------------------------------
+    def _check_entry(self) -> None:
+        spec = self.modules.get(self.entry)
+        if spec is None:
+            raise StructureError(f"entry module {self.entry}: no such module")
+        if spec.position != (0, 0, 0) or spec.axis != NS or spec.mount != IDENTITY:
+            raise StructureError(
+                f"{describe(spec)}: the entry module defines the frame, so it must sit at (0, 0, 0) "
+                "with axis NS and mount rotation 0, not mirrored")
+
+    def _adjacent_links(self) -> Iterable[Link]:
+        for spec in self.modules.values():
+            for v in range(8):
+                rx, ry, rz, raxis, rvch = navigation.receiver(*spec.position, spec.axis, v)
+                other = self._by_position.get((rx, ry, rz))
+                if other is None or other <= spec.id:
+                    continue
+                o = self.modules[other]
+                if o.axis != raxis:  # unreachable for valid parity; guards the table
+                    raise StructureError(f"{describe(o)}: axis does not match its neighbour {spec.id}")
+                if self.explicit_connections is not None and \
+                        frozenset((spec.id, other)) not in self.explicit_connections:
+                    continue
+                yield Link(spec.id, spec.mount.physical_of(v), other, o.mount.physical_of(rvch))
+
+    def _check_explicit(self) -> None:
+        for pair in sorted(self.explicit_connections or (), key=sorted):
+            ends = sorted(pair)
+            a, b = (ends[0], ends[0]) if len(ends) == 1 else ends
+            for m in (a, b):
+                if m not in self.modules:
+                    raise StructureError(f"connection {a}-{b}: no module {m}")
+            spec = self.modules[a]
+            near = {navigation.receiver(*spec.position, spec.axis, v)[:3] for v in range(8)}
+            if a == b or self.modules[b].position not in near:
+                raise StructureError(
+                    f"{describe(spec)}: listed connection to module {b}, which is not on an adjacent place")
+
+    def _check_connected(self) -> None:
+        seen = {self.entry}
+        todo = [self.entry]
+        while todo:
+            for other, _ in self._ports[todo.pop()].values():
+                if other not in seen:
+                    seen.add(other)
+                    todo.append(other)
+        for mid, spec in self.modules.items():
+            if mid not in seen:
+                raise StructureError(f"{describe(spec)}: not connected to the entry module {self.entry}")
+
+
+def _check_module(spec: ModuleSpec) -> None:
+    if spec.axis not in AXIS_NAMES:
+        raise StructureError(f"{describe(spec)}: unknown axis {spec.axis!r} (use EW, NS or UD)")
+    if len(spec.position) != 3 or not all(isinstance(c, int) for c in spec.position):
+        raise StructureError(f"{describe(spec)}: position must be three integers")
+    if not all(-128 <= c <= 127 for c in spec.position):
+        raise StructureError(f"{describe(spec)}: coordinates must lie in -128..127 (packets carry bytes)")
+    if navigation.axis_for_position(*spec.position) != spec.axis:
+        name = AXIS_NAMES[spec.axis]
+        raise StructureError(f"{describe(spec)}: axis {name} needs {_PARITY_TEXT[spec.axis]}")
+
+
+def make_structure(modules: Sequence[ModuleSpec], *, entry: int | None = None, name: str = "",
+                   connections: Iterable[tuple[int, int]] | None = None,
+                   expected_roles: dict[int, str | None] | None = None) -> Structure:
+    """Build and validate a structure; ``entry`` defaults to the first module."""
+    by_id: dict[int, ModuleSpec] = {}
+    for spec in modules:
+        if not isinstance(spec.position, tuple):
+            spec = replace(spec, position=tuple(spec.position))
+        if spec.id in by_id:
+            raise StructureError(f"{describe(spec)}: module id {spec.id} used twice")
+        by_id[spec.id] = spec
+    if not by_id:
+        raise StructureError("structure: no modules")
+    explicit = None if connections is None else frozenset(frozenset(p) for p in connections)
+    return Structure(by_id, modules[0].id if entry is None else entry, name, explicit,
+                     dict(expected_roles or {}))
