@@ -13,6 +13,11 @@ sender retries. A newer notify on a channel replaces an older one still waiting,
 can never overwrite a newer role in a neighbour's cache. With loss p per packet, a try fails with
 probability 1-(1-p)^2 (packet or ack lost): at p = 10 % that is 0.19, and all 12 tries fail with
 probability < 1e-8.
+
+Program packets travel in order on each link: a program packet is held back while an earlier one
+on the same channel is still unacknowledged, and released when that one is acknowledged (or given
+up). By induction every module then accepts fragments in the order they were injected, also under
+loss and in cyclic structures, so a discovery fragment never overtakes the fragments it follows.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ import random
 from dataclasses import dataclass
 
 from vm.hal import ModuleHal
-from vm.packets import ACK, NOTIFY, AckPacket, crc8, header_bytes, make_header, seal
+from vm.packets import ACK, NOTIFY, PROGRAM, AckPacket, crc8, header_bytes, make_header, seal
 
 RETRY_INTERVAL = 0.25  # seconds
 MAX_TRIES = 12
@@ -36,6 +41,7 @@ class Pending:
     checksum: int
     due: float
     tries: int = 1
+    held: bool = False  # waiting behind an earlier program packet on the same channel
 
 
 class Link:
@@ -56,8 +62,10 @@ class Link:
         if len(self.outbox) >= MAX_OUTBOX:
             self.outbox.pop(0)
             self.overflows += 1
-        self.outbox.append(Pending(channel, packet, crc8(packet), self._next_due(1)))
-        self._transmit(channel, packet)
+        held = packet[0] == PROGRAM and self._program_in_flight(channel)
+        self.outbox.append(Pending(channel, packet, crc8(packet), self._next_due(1), held=held))
+        if not held:
+            self._transmit(channel, packet)
 
     def send_ack(self, channel: int, packet: bytes) -> None:
         """Acknowledge a received packet (acks themselves are not acknowledged)."""
@@ -68,18 +76,38 @@ class Link:
         self.outbox = [p for p in self.outbox
                        if not (p.channel == channel and p.checksum == ack.checksum
                                and p.packet[0] == ack.acked_type and p.packet[1] == ack.header.id)]
+        self._release(channel)
+
+    def _program_in_flight(self, channel: int) -> bool:
+        return any(p.channel == channel and p.packet[0] == PROGRAM and not p.held for p in self.outbox)
+
+    def _release(self, channel: int) -> None:
+        """Send the next held program packet on ``channel`` once none is in flight there."""
+        if self._program_in_flight(channel):
+            return
+        for p in self.outbox:
+            if p.channel == channel and p.held:
+                p.held = False
+                p.due = self._next_due(1)
+                self._transmit(channel, p.packet)
+                return
 
     def tick(self) -> None:
         """Retransmit what is due; forget what has run out of tries or lost its neighbour."""
         now = self.hal.now()
         connected = self.hal.connected_channels()
         keep: list[Pending] = []
+        released: set[int] = set()
         for p in self.outbox:
             if p.channel not in connected:
+                continue
+            if p.held:
+                keep.append(p)
                 continue
             if p.due <= now:
                 if p.tries >= MAX_TRIES:
                     self.given_up += 1
+                    released.add(p.channel)
                     continue
                 p.tries += 1
                 p.due = self._next_due(p.tries)
@@ -87,6 +115,8 @@ class Link:
                 self._transmit(p.channel, p.packet)
             keep.append(p)
         self.outbox = keep
+        for channel in released | {p.channel for p in keep if p.held}:
+            self._release(channel)
 
     def _next_due(self, tries: int) -> float:
         backoff = min(2 ** (tries - 1), MAX_BACKOFF)
