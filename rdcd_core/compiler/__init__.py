@@ -1,0 +1,88 @@
+"""The RDCD compiler: checked Model -> DCD-VM fragments, role table and injection plan.
+
+Phases (one module each): copy-down (done by semantics; ``context`` resolves members per
+concrete role, mixins overlaid inside ``assumeRole``), ``roletable``, ``discovery``, ``entry``
+(startup, commands, behaviours), ``exprgen``/``stmtgen`` (code with constants folded per concrete
+role, plain methods inlined), ``peephole``, ``layout``, ``plan`` (splitting and injection).
+"""
+
+from __future__ import annotations
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic codes)
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.entry import assign_command_numbers
+from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit, role_id_limit
+from rdcd_core.compiler.plan import plan
+from rdcd_core.compiler.program import (
+    HEADER_BYTES,
+    PROGRAM_BUDGET,
+    CompiledProgram,
+    Fragment,
+    RoleEntry,
+)
+from rdcd_core.compiler.roletable import build_role_table
+from rdcd_core.compiler.verify import verify_fragments
+from rdcd_core.semantics.model import Model
+from rdcd_core.source import LineIndex
+
+__all__ = ["PROGRAM_BUDGET", "CompiledProgram", "Fragment", "RoleEntry", "compile_model",
+           "target_diagnostics"]
+
+
+def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = False,
+                  text: str | None = None) -> CompiledProgram:
+    """Compiles a checked model. With errors in the model, returns an empty program.
+
+    ``diagnostics`` holds the compiler's own (E6xx/W6xx), not the model's. Pass the source
+    ``text`` to get line numbers in the source maps.
+    """
+    if model.has_errors:
+        return CompiledProgram([], [], [], packet_budget)
+    table = build_role_table(model)
+    commands = assign_command_numbers(model)
+    found = role_id_limit(model, table) + command_limit(model, commands)
+    ctxs = {role: Context(model, table, role, strict_isa, command_numbers=commands)
+            for role in model.deployment}
+    planner = plan(ctxs, model.deployment, packet_budget - HEADER_BYTES)
+    for ctx in ctxs.values():
+        found.extend(ctx.diagnostics)
+    found.extend(planner.diagnostics)
+    found.extend(program_limit(model))
+    found.extend(mixin_methods(model))
+    if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code
+        found.extend(verify_fragments(planner.fragments, strict_isa))
+    if text is not None:
+        _add_lines(planner.fragments, LineIndex(text))
+    names = [f.name for f in planner.fragments]
+    return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found))
+
+
+def target_diagnostics(model: Model, packet_budget: int = 50) -> list[diag.Diagnostic]:
+    """The §6 target limits of ``model`` (empty when the model has errors)."""
+    if model.has_errors:
+        return []
+    return compile_model(model, packet_budget=packet_budget).diagnostics
+
+
+def _add_lines(fragments: list[Fragment], index: LineIndex) -> None:
+    for fragment in fragments:
+        fragment.source_map = [
+            type(e)(e.offset, e.size, e.span, index.line_col(e.span.start).line + 1 if e.span else 0)
+            for e in fragment.source_map]
+        lines = [entry.line for entry in fragment.source_map if entry.line]
+        if fragment.span is not None:
+            lines += [index.line_col(fragment.span.start).line + 1]
+        if lines:
+            fragment.source = (min(lines), max(lines))
+
+
+def _dedupe(items: list[diag.Diagnostic]) -> list[diag.Diagnostic]:
+    seen: set[tuple] = set()
+    result = []
+    for item in items:
+        key = (item.code, item.span.start, item.span.end, item.message)
+        if key not in seen:
+            seen.add(key)
+            result.append(item)
+    return sorted(result, key=lambda d: (d.span.start, d.code))

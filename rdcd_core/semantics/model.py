@@ -38,6 +38,7 @@ class ConstantSymbol:
     declaration: ast.Name  # where it is declared (abstract) or defined
     definition: ast.ConstantDef | None  # None while abstract
     value: Value | None  # folded value; None if abstract or not foldable
+    type: Type | None = None  # the constant's type (for an abstract one: that of its definitions)
 
 
 @dataclass(slots=True)

@@ -229,13 +229,22 @@ def unparen(expr: Expr) -> Expr:
     return expr
 
 
+_NOT_CHILDREN = frozenset({"span", "op_span", "header_span", "abstract_span", "else_span", "comments"})
+_CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _child_fields(cls: type) -> tuple[str, ...]:
+    names = _CHILD_FIELDS.get(cls)
+    if names is None:  # dataclasses.fields() is slow: computed once per class
+        names = _CHILD_FIELDS[cls] = tuple(f.name for f in fields(cls) if f.name not in _NOT_CHILDREN)
+    return names
+
+
 def children(node: Node) -> list[Node]:
     """Direct child nodes (names included), in source order."""
     result: list[Node] = []
-    for f in fields(node):
-        if f.name in ("span", "op_span", "header_span", "abstract_span", "else_span", "comments"):
-            continue
-        value = getattr(node, f.name)
+    for name in _child_fields(type(node)):
+        value = getattr(node, name)
         if isinstance(value, tuple):
             result.extend(v for v in value if hasattr(v, "span"))
         elif hasattr(value, "span"):

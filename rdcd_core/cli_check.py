@@ -1,0 +1,162 @@
+"""``rdcd check [--format text|json|github] [--warnings-as-errors] [--packet-budget N] PATH...``
+
+Exit status: 0 no errors, 1 errors (or warnings with --warnings-as-errors), 2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from rdcd_core.diagnostics import Diagnostic, Severity
+from rdcd_core.frontend import CheckResult, check_text
+from rdcd_core.source import LineIndex
+
+
+class InputError(Exception):
+    """A usage or I/O problem: reported in one line, exit status 2."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("paths", nargs="+", metavar="PATH",
+                        help="RDCD files, or directories searched recursively for *.rdcd")
+    parser.add_argument("--format", choices=("text", "json", "github"), default="text",
+                        help="output format (default: text)")
+    parser.add_argument("--warnings-as-errors", action="store_true",
+                        help="exit with status 1 on warnings too")
+    parser.add_argument("--packet-budget", type=int, default=50, metavar="N",
+                        help="packet size budget in bytes for the target checks (default: 50)")
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        if args.packet_budget < 8:
+            raise InputError(f"--packet-budget must be at least 8 bytes, not {args.packet_budget}")
+        sources = [(path, _read(path)) for path in collect_files(args.paths)]
+    except InputError as error:
+        print(f"rdcd check: {error}", file=sys.stderr)
+        return 2
+    results = [(path, check_text(text, packet_budget=args.packet_budget)) for path, text in sources]
+    out = sys.stdout
+    if args.format == "json":
+        out.write(render_json(results) + "\n")
+    elif args.format == "github":
+        for path, result in results:
+            for diagnostic in result.diagnostics:
+                out.write(render_github(path, result, diagnostic) + "\n")
+    else:
+        for path, result in results:
+            for diagnostic in result.diagnostics:
+                out.write(render_text(path, result, diagnostic))
+        out.write(summary(results) + "\n")
+    return exit_status(results, args.warnings_as_errors)
+
+
+def collect_files(paths: list[str]) -> list[str]:
+    files: list[str] = []
+    for raw in paths:
+        path = Path(raw)
+        if path.is_dir():
+            found = sorted(p for p in path.rglob("*.rdcd") if p.is_file())
+            if not found:
+                raise InputError(f"no .rdcd files found in {raw}")
+            files.extend(str(p) for p in found)
+        elif path.exists():
+            files.append(raw)
+        else:
+            raise InputError(f"no such file or directory: {raw}")
+    return files
+
+
+def _read(path: str) -> str:
+    try:
+        data = Path(path).read_bytes()
+    except OSError as error:
+        raise InputError(f"cannot read {path}: {error.strerror or error}") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise InputError(f"{path} is not UTF-8 text (byte {error.start})") from None
+
+
+def exit_status(results: list[tuple[str, CheckResult]], warnings_as_errors: bool) -> int:
+    failing = {Severity.ERROR, Severity.WARNING} if warnings_as_errors else {Severity.ERROR}
+    for _, result in results:
+        if any(d.severity in failing for d in result.diagnostics):
+            return 1
+    return 0
+
+
+def _positions(result: CheckResult, diagnostic: Diagnostic) -> tuple[int, int, int, int]:
+    """1-based line, column, end line and end column (end exclusive)."""
+    index = _index(result)
+    start = index.line_col(diagnostic.span.start)
+    end = index.line_col(diagnostic.span.end)
+    return start.line + 1, start.column + 1, end.line + 1, end.column + 1
+
+
+def _index(result: CheckResult) -> LineIndex:
+    cached = getattr(result, "_line_index", None)
+    if cached is None:
+        cached = LineIndex(result.text)
+        result._line_index = cached  # type: ignore[attr-defined]
+    return cached
+
+
+def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
+    line, column, end_line, end_column = _positions(result, diagnostic)
+    label = diagnostic.severity.label
+    lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {diagnostic.message}"]
+    source = _index(result).line_text(line - 1)
+    if source.strip():
+        width = (end_column - column) if end_line == line else len(source) - column + 1
+        gutter = " " * len(str(line))
+        prefix = "".join(c if c == "\t" else " " for c in source[:column - 1])
+        lines += [f"{gutter} |", f"{line} | {source}", f"{gutter} | {prefix}{'^' * max(1, width)}"]
+    index = _index(result)
+    for related in diagnostic.related:
+        at = index.line_col(related.span.start)
+        lines.append(f"  = note: {path}:{at.line + 1}:{at.column + 1}: {related.message}")
+    for fix in diagnostic.fixes:
+        lines.append(f"  = help: {fix.title}")
+    return "\n".join(lines) + "\n\n"
+
+
+def summary(results: list[tuple[str, CheckResult]]) -> str:
+    errors = sum(d.severity is Severity.ERROR for _, r in results for d in r.diagnostics)
+    warnings = sum(d.severity is Severity.WARNING for _, r in results for d in r.diagnostics)
+    files = f"{len(results)} file{'s' if len(results) != 1 else ''} checked"
+    if not errors and not warnings:
+        return f"{files}: no problems"
+    return (f"{files}: {errors} error{'s' if errors != 1 else ''}, "
+            f"{warnings} warning{'s' if warnings != 1 else ''}")
+
+
+def render_json(results: list[tuple[str, CheckResult]]) -> str:
+    entries = []
+    for path, result in results:
+        for diagnostic in result.diagnostics:
+            line, column, end_line, end_column = _positions(result, diagnostic)
+            entries.append({"file": path, "line": line, "column": column, "end_line": end_line,
+                            "end_column": end_column, "severity": diagnostic.severity.label,
+                            "code": diagnostic.code, "message": diagnostic.message})
+    return json.dumps({"files": len(results), "diagnostics": entries}, indent=2)
+
+
+def _escape_data(text: str) -> str:
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _escape_property(text: str) -> str:
+    return _escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def render_github(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
+    line, column, end_line, end_column = _positions(result, diagnostic)
+    kind = "error" if diagnostic.severity is Severity.ERROR else \
+        "warning" if diagnostic.severity is Severity.WARNING else "notice"
+    props = (f"file={_escape_property(path)},line={line},col={column},endLine={end_line},"
+             f"endColumn={end_column},title={_escape_property(diagnostic.code)}")
+    return f"::{kind} {props}::{_escape_data(diagnostic.message)}"

@@ -1,0 +1,79 @@
+"""``rdcd compile FILE [--format listing|json|c] [--max-packet 50] [--strict-isa] [-o OUT]``
+
+Exit status: 0 compiled, 1 the program has errors, 2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from rdcd_core.cli_check import render_text
+from rdcd_core.compiler import compile_model
+from rdcd_core.compiler.render import render_c, render_json, render_listing
+from rdcd_core.diagnostics import Severity
+from rdcd_core.frontend import check_text
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("file", metavar="FILE", help="the RDCD program")
+    parser.add_argument("--format", choices=("listing", "json", "c"), default="listing",
+                        help="output format (default: listing)")
+    parser.add_argument("--max-packet", type=int, default=50, metavar="N",
+                        help="packet budget in bytes, 7 header bytes included (default: 50)")
+    parser.add_argument("--strict-isa", action="store_true",
+                        help="refuse this project's extension instructions")
+    parser.add_argument("-o", "--output", metavar="OUT", help="write the output here, not to stdout")
+
+
+def _read(path: str) -> str:
+    try:
+        return Path(path).read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise OSError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise OSError(f"{path}: is a directory") from None
+    except UnicodeDecodeError:
+        raise OSError(f"{path}: not UTF-8 text") from None
+    except OSError as error:
+        raise OSError(f"{path}: {error.strerror or error}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    if not 8 <= args.max_packet <= 71:
+        print(f"rdcd compile: --max-packet must be 8..71 bytes, not {args.max_packet}", file=sys.stderr)
+        return 2
+    try:
+        text = _read(args.file)
+    except OSError as error:
+        print(f"rdcd compile: {error}", file=sys.stderr)
+        return 2
+    result = check_text(text, packet_budget=args.max_packet)
+    diagnostics = list(result.diagnostics)
+    program = None
+    if not result.has_errors:
+        try:
+            program = compile_model(result.model, packet_budget=args.max_packet,
+                                    strict_isa=args.strict_isa, text=text)
+        except Exception as error:  # a compiler bug: one clear line, not a traceback
+            print(f"rdcd compile: internal compiler error: {type(error).__name__}: {error}; "
+                  "please report this bug", file=sys.stderr)
+            return 1
+        known = {(d.code, d.span) for d in diagnostics}
+        diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
+    for diagnostic in diagnostics:
+        sys.stderr.write(render_text(args.file, result, diagnostic))
+    if program is None or any(d.severity is Severity.ERROR for d in diagnostics):
+        return 1
+    output = {"json": lambda: render_json(program) + "\n", "c": lambda: render_c(program, args.file),
+              "listing": lambda: render_listing(program)}[args.format]()
+    if args.output:
+        try:
+            Path(args.output).write_text(output, encoding="utf-8")
+        except OSError as error:
+            print(f"rdcd compile: {args.output}: {error.strerror or error}", file=sys.stderr)
+            return 2
+    else:
+        sys.stdout.write(output)
+    return 0

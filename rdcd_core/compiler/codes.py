@@ -1,0 +1,54 @@
+"""The diagnostic codes of the compiler: E6xx / W6xx, limits of the DCD-VM target (language.md §6).
+
+E602, E606 and E607 are backstops: the checker reports those programs first (E120, E2xx-E4xx).
+"""
+
+from __future__ import annotations
+
+from rdcd_core.diagnostics import Severity, define_code
+
+_E, _W = Severity.ERROR, Severity.WARNING
+
+
+def _leds(count: int) -> str:
+    return " ".join(f"self.setLed({i});" for i in range(count))
+
+
+FRAGMENT_TOO_LARGE = define_code(
+    "E601", _E, "a compiled fragment exceeds 64 program bytes",
+    "role A { self.x() > 0;\n"
+    f"  startup s() {{ self.handleEvent(EVENT_PROXIMITY_1, {{ {_leds(30)} }}); }} }}\ndeployment {{ A }}")
+TOO_MANY_ROLE_IDS = define_code(
+    "E602", _E, "more than 14 role identifiers after mixin expansion",
+    "\n".join(f"role R{i} {{ self.x() > {i}; }}" for i in range(15))
+    + "\ndeployment { " + ", ".join(f"R{i}" for i in range(15)) + " }")
+TOO_MANY_COMMANDS = define_code(
+    "E603", _E, "more than 5 entries in one role's command table (commands and behaviours)",
+    "role A { self.x() > 0;\n"
+    + "".join(f"  command c{i}() {{ self.setLed({i}); }}\n" for i in range(4))
+    + "  behavior b1() { self.sleep(); }\n  behavior b2() { self.sleep(); } }\ndeployment { A }")
+NOT_CONSTANT = define_code(
+    "E604", _E, "the target needs a compile-time constant here",
+    "role A { self.x() > 0; startup s() { self.setLed(self.y()); } }\ndeployment { A }")
+EXT_REFUSED = define_code(
+    "E605", _E, "code needs an extension instruction, refused by --strict-isa",
+    "role A { self.x() + self.y() > 0; }\ndeployment { A }")
+UNSUPPORTED = define_code(
+    "E606", _E, "construct not supported by the DCD-VM code generator",
+    "role A { self.x() > 0; startup s() { self.s(); } }\ndeployment { A }")
+VERIFIER_REJECTED = define_code(
+    "E607", _E, "internal: a compiled fragment was rejected by the verifier",
+    "role A { self.x() > 0; }\ndeployment { A }")
+OVER_BUDGET = define_code(
+    "W601", _W, "a fragment exceeds the packet budget and could not be split",
+    f"role A {{ self.x() > 0;\n  startup s() {{ if (connected_role(UP, A) > 0) {{ {_leds(19)} }} }} }}\n"
+    "deployment { A }")
+TOO_MANY_PROGRAMS = define_code(
+    "W602", _W, "more than 10 programs stored at once on one module",
+    "role A { self.x() > 0;\n  startup s() { "
+    + " ".join(f"self.handleEvent(EVENT_PROXIMITY_{k}, {{ self.setLed(1); }});" for k in range(8))
+    + " }\n" + "".join(f"  command c{i}() {{ self.setLed({i}); }}\n" for i in range(3))
+    + "}\ndeployment { A }")
+MIXIN_METHOD_IGNORED = define_code(
+    "W603", _W, "a mixin's startup or behaviour method is not compiled",
+    "role W { self.y() > 0; }\nrole M modifies W { startup s() { self.sleep(); } }\ndeployment { W }")

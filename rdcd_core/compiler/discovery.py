@@ -1,0 +1,163 @@
+"""Discovery code: test a role's invariants, take the role (SET_ROLE_NOTIFY), run its entry items.
+
+Sibling roles that share leading invariants are discovered by one fragment: the shared tests run
+once, then each role's own tests. Tests are simplified by exhaustive evaluation over the local
+state space (axis x connected set, 768 states): a test that always holds on the states that reach
+it is dropped, and a cheaper test that agrees with it on those states replaces it.
+
+Arrival order: a fragment whose tests read neighbour roles, and a continuation fragment (which
+tests the role its discovery fragment gave), starts with SLEEP: on every module it waits one
+second before testing, so that the roles announced by fragments injected just before it (also
+when a lost packet was retransmitted) have arrived. The injection plan keeps deployment order.
+"""
+
+from __future__ import annotations
+
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.entry import EntryItem
+from rdcd_core.compiler.exprgen import cjump, emit
+from rdcd_core.compiler.fold import eval_vector, fold, type_of
+from rdcd_core.compiler.geometry import ALL_STATES, LOCAL_STATES
+from rdcd_core.compiler.ir import Ins, Item, Label, code_size
+from rdcd_core.syntax import ast
+from rdcd_core.types import Type
+
+
+def state_mask(expr: ast.Node, ctx: Context) -> int | None:
+    """Bit i set when ``expr`` holds in local state i; None if it is not a local expression."""
+    key = ("mask", id(expr))
+    if key not in ctx.cache:
+        values = eval_vector(expr, ctx, LOCAL_STATES)
+        mask = None
+        if values is not None:
+            mask = sum(1 << index for index, value in enumerate(values) if value)
+        ctx.cache[key] = mask
+    return ctx.cache[key]  # type: ignore[return-value]
+
+
+def candidates(expr: ast.Node, ctx: Context) -> list[ast.Node]:
+    """Cheaper tests that may agree with ``expr`` on some states: zero tests of its parts."""
+    key = ("candidates", id(expr))
+    if key not in ctx.cache:
+        found: list[ast.Node] = [expr]
+        for node in ast.walk(expr):
+            if not isinstance(node, (ast.SelfCall, ast.FunctionCall)) or fold(node, ctx) is not None:
+                continue
+            if type_of(node, ctx) not in (Type.INT, Type.CONNSET):
+                continue
+            zero = ast.IntLit(0, node.span)
+            for op in ("!=", "=="):
+                found.append(ast.Binary(op, node, zero, node.span, node.span))
+        ctx.cache[key] = found
+    return ctx.cache[key]
+
+
+def emit_test(expr: ast.Node, ctx: Context, fail: Label, paths: int, out: list[Item]) -> int:
+    """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass."""
+    mask = state_mask(expr, ctx)
+    if mask is None:
+        cjump(expr, fail, False, ctx, out)
+        return paths
+    if paths & ~mask == 0:
+        return paths
+    if paths & mask == 0:
+        emit(out, "GOTO", fail, span=expr.span)
+        return 0
+    best: list[Item] | None = None
+    for candidate in candidates(expr, ctx):
+        other = state_mask(candidate, ctx)
+        if other is None or (other ^ mask) & paths:
+            continue
+        code: list[Item] = []
+        cjump(candidate, fail, False, ctx, code)
+        if best is None or code_size(code) < code_size(best):
+            best = code
+    out.extend(best or [])
+    return paths & mask
+
+
+def invariants(ctx: Context) -> list[ast.Node]:
+    return [inv.decl.expr for inv in ctx.model.roles[ctx.role].invariants]
+
+
+def signature(expr: ast.Node, ctx: Context) -> tuple:
+    code: list[Item] = []
+    cjump(expr, Label(), False, ctx, code)
+    return tuple((i.op, tuple("L" if isinstance(a, Label) else a for a in i.args))
+                 for i in code if isinstance(i, Ins))
+
+
+def common_prefix(ctxs: list[Context]) -> int:
+    lists = [invariants(ctx) for ctx in ctxs]
+    count = 0
+    for index in range(min(len(items) for items in lists)):
+        decls = {id(ctx.model.roles[ctx.role].invariants[index].decl) for ctx in ctxs}
+        sigs = {signature(items[index], ctx) for items, ctx in zip(lists, ctxs, strict=True)}
+        if len(decls) != 1 or len(sigs) != 1:
+            break
+        count += 1
+    return count
+
+
+def role_mask(exprs: list[ast.Node], ctx: Context) -> int | None:
+    mask = ALL_STATES
+    for expr in exprs:
+        part = state_mask(expr, ctx)
+        if part is None:
+            return None
+        mask &= part
+    return mask
+
+
+def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: int) -> list[Item]:
+    out: list[Item] = []
+    migrate = Label("migrate")
+    paths = ALL_STATES
+    if any(observes_roles(ctx) for ctx in ctxs):
+        emit(out, "SLEEP", span=ctxs[0].model.roles[ctxs[0].role].decl.name.span)
+    for expr in invariants(ctxs[0])[:common]:
+        paths = emit_test(expr, ctxs[0], migrate, paths, out)
+    for ctx in ctxs:
+        following = Label("next")
+        own = invariants(ctx)[common:]
+        role_paths = paths
+        for expr in own:
+            role_paths = emit_test(expr, ctx, following, role_paths, out)
+        span = ctx.model.roles[ctx.role].decl.name.span
+        emit(out, "SET_ROLE_NOTIFY", ctx.table.id_of(ctx.role) or 0, span=span)
+        for item in placed.get(ctx.role, []):
+            out.extend(item.code)
+        emit(out, "GOTO", migrate, span=span)
+        out.append(following)
+        mask = role_mask(own, ctx)
+        if mask is not None:
+            paths &= ~mask
+    out.append(migrate)
+    emit(out, "MIGRATE_CONTINUE", span=ctxs[0].model.roles[ctxs[0].role].decl.name.span)
+    return out
+
+
+def observes_roles(ctx: Context) -> bool:
+    """Whether the role's invariants read neighbour roles announced by earlier fragments."""
+    return any(isinstance(node, ast.FunctionCall) and node.name.text == "connected_role"
+               for inv in ctx.model.roles[ctx.role].invariants for node in ast.walk(inv.decl.expr))
+
+
+def continuation_code(parts: list[tuple[Context, list[EntryItem]]]) -> list[Item]:
+    """Entry items that did not fit their discovery fragment, for one or more roles: each part
+    runs where its role is held (a module holds one role, so at most one part runs)."""
+    out: list[Item] = []
+    migrate = Label("migrate")
+    emit(out, "SLEEP", span=parts[0][1][0].span)
+    for ctx, items in parts:
+        following = Label("next")
+        span = items[0].span
+        emit(out, "HAS_ROLE", ctx.table.id_of(ctx.role) or 0, span=span)
+        emit(out, "IF_FALSE_GOTO", following, span=span)
+        for item in items:
+            out.extend(item.code)
+        emit(out, "GOTO", migrate, span=span)
+        out.append(following)
+    out.append(migrate)
+    emit(out, "MIGRATE_CONTINUE", span=parts[0][1][0].span)
+    return out

@@ -1,0 +1,148 @@
+"""What a module does when it takes a concrete role: install the role's commands, run its
+startup methods, start its behaviours. Each piece is an ``EntryItem``, the unit of splitting.
+
+A behaviour is installed as a program in the role's command table (after the user commands) and
+started with EVAL_COMMAND; its body ends with END_REPEAT, so it repeats on that module while the
+fragment that carried it migrates on.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.exprgen import emit
+from rdcd_core.compiler.ir import Body, Item, Label
+from rdcd_core.compiler.roletable import application_name
+from rdcd_core.compiler.stmtgen import USER_COMMAND_BASE, body_of, statement, statements
+from rdcd_core.semantics.model import MethodSymbol, Model
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+
+
+@dataclass(slots=True)
+class EntryItem:
+    kind: str  # command | startup | behavior
+    code: list[Item]
+    span: Span
+    method: str = ""
+    stmt: ast.Stmt | None = None  # the startup statement it came from (for splitting)
+
+
+def assign_command_numbers(model: Model) -> dict[str, int]:
+    """User command k of every command name; a name keeps one k in every role that has it.
+    A mixin's commands share the table of the roles it applies to."""
+    numbers: dict[str, int] = {}
+    symbols = sorted(model.roles.values(), key=lambda s: s.is_mixin)
+    for symbol in symbols:
+        for method in symbol.methods.values():
+            if method.kind is not ast.MethodKind.COMMAND or method.name in numbers:
+                continue
+            sharing = [r for r in model.roles.values() if method.name in r.methods]
+            if symbol.is_mixin and symbol.modifies:
+                sharing += [model.roles[r] for r in model.subroles(symbol.modifies)]
+            taken = {numbers[m] for r in sharing for m in r.methods if m in numbers}
+            numbers[method.name] = min(k for k in range(64) if k not in taken)
+    return numbers
+
+
+def methods_of(model: Model, role: str, kind: ast.MethodKind) -> list[MethodSymbol]:
+    return [m for m in model.roles[role].methods.values()
+            if m.kind is kind and m.decl.body is not None]
+
+
+def behaviour_numbers(model: Model, role: str, commands: dict[str, int]) -> dict[str, int]:
+    used = {commands[m.name] for m in methods_of(model, role, ast.MethodKind.COMMAND)}
+    numbers: dict[str, int] = {}
+    for method in methods_of(model, role, ast.MethodKind.BEHAVIOR):
+        numbers[method.name] = min(k for k in range(64) if k not in used)
+        used.add(numbers[method.name])
+    return numbers
+
+
+def entry_items(ctx: Context, needs_role_check: bool) -> list[EntryItem]:
+    model, role = ctx.model, ctx.role
+    role_id = ctx.table.id_of(role) or 0
+    items: list[EntryItem] = []
+    for method in methods_of(model, role, ast.MethodKind.COMMAND):
+        number = USER_COMMAND_BASE + ctx.command_numbers[method.name]
+        body = body_of(method.decl.body, ctx, "END_TERMINATE")
+        code: list[Item] = []
+        emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
+        items.append(EntryItem("command", code, method.decl.span, method.name))
+    items += _mixin_commands(ctx)
+    for method in methods_of(model, role, ast.MethodKind.STARTUP):
+        for stmt in method.decl.body.statements:
+            items += startup_items(stmt, ctx, method.name)
+    numbers = behaviour_numbers(model, role, ctx.command_numbers)
+    for method in methods_of(model, role, ast.MethodKind.BEHAVIOR):
+        number = USER_COMMAND_BASE + numbers[method.name]
+        body = _behaviour_body(method, ctx, role_id, needs_role_check)
+        code = []
+        emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
+        emit(code, "EVAL_COMMAND", number, 0, span=method.decl.name.span)
+        items.append(EntryItem("behavior", code, method.decl.span, method.name))
+    return items
+
+
+def startup_items(stmt: ast.Stmt, ctx: Context, method: str) -> list[EntryItem]:
+    code: list[Item] = []
+    statement(stmt, ctx, code)
+    return [EntryItem("startup", code, stmt.span, method, stmt)] if code else []
+
+
+def split_statement(stmt: ast.Stmt | None) -> list[ast.Stmt]:
+    """A startup statement as smaller statements with the same effect, run one after the other:
+    a block as its statements; ``if (c) {A; B} else {C}`` as ``if (c) A; if (c) B; if (!c) C``
+    when ``c`` reads only what cannot change meanwhile (coordinates, axis, connections: not the
+    neighbours' roles). [] when it cannot be split."""
+    if isinstance(stmt, ast.Block):
+        return list(stmt.statements) if len(stmt.statements) > 1 else split_statement(
+            stmt.statements[0] if stmt.statements else None)
+    if not isinstance(stmt, ast.IfStmt) or not _stable(stmt.condition):
+        return []
+    parts = [ast.IfStmt(stmt.condition, s, None, s.span) for s in _flat(stmt.then_body)]
+    if stmt.else_body is not None:
+        negated = ast.Unary("!", stmt.condition, stmt.condition.span)
+        parts += [ast.IfStmt(negated, s, None, s.span) for s in _flat(stmt.else_body)]
+    return parts if len(parts) > 1 else []
+
+
+def _flat(stmt: ast.Stmt) -> list[ast.Stmt]:
+    return list(stmt.statements) if isinstance(stmt, ast.Block) else [stmt]
+
+
+def _stable(expr: ast.Node) -> bool:
+    return not any(isinstance(node, ast.FunctionCall) and node.name.text == "connected_role"
+                   for node in ast.walk(expr))
+
+
+def _behaviour_body(method: MethodSymbol, ctx: Context, role_id: int, check: bool) -> Body:
+    code: list[Item] = []
+    end = Label("repeat")
+    if check:
+        emit(code, "HAS_ROLE", role_id, span=method.decl.name.span)
+        emit(code, "IF_FALSE_GOTO", end, span=method.decl.name.span)
+    statements(method.decl.body.statements, ctx, code)
+    code.append(end)
+    emit(code, "END_REPEAT", span=method.decl.span)
+    return Body(code)
+
+
+def _mixin_commands(ctx: Context) -> list[EntryItem]:
+    """Commands of a mixin M, installed for M applied to this role (after the role's own, which
+    they override while the module plays M)."""
+    items: list[EntryItem] = []
+    for mixin in ctx.model.mixins_of(ctx.role):
+        applied = ctx.table.id_of(application_name(mixin, ctx.role))
+        if applied is None:
+            continue
+        ctx.mixins.append(mixin)
+        for method in methods_of(ctx.model, mixin, ast.MethodKind.COMMAND):
+            number = USER_COMMAND_BASE + ctx.command_numbers[method.name]
+            body = body_of(method.decl.body, ctx, "END_TERMINATE")
+            code: list[Item] = []
+            emit(code, "INSTALL_COMMAND", applied, number, body, span=method.decl.name.span)
+            items.append(EntryItem("command", code, method.decl.span, method.name))
+        ctx.mixins.pop()
+    return items

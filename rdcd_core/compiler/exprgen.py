@@ -1,0 +1,182 @@
+"""Code for expressions: ``value`` pushes a value; ``cjump`` jumps to a label when a condition has
+a given truth value and falls through otherwise. Every query is pure, so an operand may be
+evaluated twice; that is how ``==`` is compiled without the EQUALS extension."""
+
+from __future__ import annotations
+
+from rdcd_core.compiler import codes
+from rdcd_core.compiler.compare import cjump_compare
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.fold import fold, type_of
+from rdcd_core.compiler.geometry import ROLE_DIRECTION_OPS
+from rdcd_core.compiler.ir import Ins, Item, Label
+from rdcd_core.syntax import ast
+from rdcd_core.types import Type
+
+COORDS = {"x": "X", "y": "Y", "z": "Z"}
+AXIS_OPS = {1: "CENTER_POSITION_EW", 2: "CENTER_POSITION_NS", 3: "CENTER_POSITION_UD"}
+MIRROR = {"<": ">", ">": "<", "<=": ">=", ">=": "<=", "==": "==", "!=": "!="}
+
+
+def emit(out: list[Item], op: str, *args: object, span: object = None) -> None:
+    out.append(Ins(op, tuple(args), span))
+
+
+def query_name(expr: ast.Node) -> str | None:
+    expr = ast.unparen(expr)
+    if isinstance(expr, (ast.SelfCall, ast.FunctionCall)):
+        return expr.name.text
+    return None
+
+
+def const_arg(expr: ast.Node, ctx: Context, what: str) -> int | None:
+    value = fold(expr, ctx)
+    if value is None:
+        ctx.report(codes.NOT_CONSTANT, expr.span, f"{what} must be a compile-time constant on the DCD-VM")
+        return None
+    return value.value
+
+
+def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
+    expr = ast.unparen(expr)
+    folded = fold(expr, ctx)
+    if folded is not None:
+        emit(out, "PUSH", folded.value, span=expr.span)
+    elif isinstance(expr, ast.SelfCall):
+        _query(expr, ctx, out)
+    elif isinstance(expr, ast.FunctionCall):
+        _function(expr, ctx, out)
+    elif isinstance(expr, ast.Unary) and expr.op == "-":
+        value(expr.operand, ctx, out)
+        emit(out, "NEGATE", span=expr.span)
+    elif isinstance(expr, ast.Binary) and expr.op in "+-":
+        value(expr.left, ctx, out)
+        value(expr.right, ctx, out)
+        op = "ADD" if expr.op == "+" else "SUB"
+        ctx.ext(op, expr.span)
+        emit(out, op, span=expr.span)
+    elif isinstance(expr, ast.Binary) and expr.op in ("<", ">"):
+        compare(expr.left, expr.right, expr.op, ctx, out, expr.span)
+    else:
+        materialize(expr, ctx, out)
+
+
+def materialize(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
+    """A boolean (or an axis) as 0/1 (or its code) through branches."""
+    end = Label("end")
+    if type_of(expr, ctx) is Type.AXIS:
+        for axis in (1, 2):
+            skip = Label()
+            emit(out, AXIS_OPS[axis], span=expr.span)
+            emit(out, "IF_FALSE_GOTO", skip, span=expr.span)
+            emit(out, "PUSH", axis, span=expr.span)
+            emit(out, "GOTO", end, span=expr.span)
+            out.append(skip)
+        emit(out, "PUSH", 3, span=expr.span)
+    else:
+        false = Label("false")
+        cjump(expr, false, False, ctx, out)
+        emit(out, "PUSH", 1, span=expr.span)
+        emit(out, "GOTO", end, span=expr.span)
+        out.append(false)
+        emit(out, "PUSH", 0, span=expr.span)
+    out.append(end)
+
+
+def _query(expr: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
+    name = expr.name.text
+    if name in COORDS:
+        emit(out, f"COORD_{COORDS[name]}", span=expr.span)
+    elif name == "total_connected":
+        emit(out, "CONNECTED", span=expr.span)
+    elif name == "connected" and expr.args:
+        direction = const_arg(expr.args[0], ctx, "the direction")
+        emit(out, "CONNECTED_DIR", direction or 0, span=expr.span)
+    elif name == "center_position":
+        materialize(expr, ctx, out)
+    else:
+        ctx.report(codes.UNSUPPORTED, expr.span, f"'self.{name}' has no value on the DCD-VM")
+        emit(out, "PUSH", 0, span=expr.span)
+
+
+def _function(expr: ast.FunctionCall, ctx: Context, out: list[Item]) -> None:
+    if expr.name.text == "sizeof" and expr.args:
+        inner = ast.unparen(expr.args[0])
+        name = query_name(inner)
+        if isinstance(inner, ast.SelfCall) and name == "total_connected":
+            emit(out, "CONNECTED_SIZEOF", span=expr.span)
+        elif isinstance(inner, ast.SelfCall) and name == "connected" and inner.args:
+            direction = const_arg(inner.args[0], ctx, "the direction")
+            emit(out, "CONNECTED_DIR_SIZEOF", direction or 0, span=expr.span)
+        else:
+            value(inner, ctx, out)
+            emit(out, "SIZEOF", span=expr.span)
+    elif expr.name.text == "connected_role" and len(expr.args) == 2:
+        direction = const_arg(expr.args[0], ctx, "the direction")
+        role = const_arg(expr.args[1], ctx, "the role")
+        emit(out, "CONNECTED_ROLE", direction or 0, role or 0, span=expr.span)
+    else:
+        ctx.report(codes.UNSUPPORTED, expr.span, f"'{expr.name.text}' cannot be compiled")
+        emit(out, "PUSH", 0, span=expr.span)
+
+
+def compare(left: ast.Node, right: ast.Node, op: str, ctx: Context, out: list[Item], span: object) -> None:
+    """Push b(left op right) for op in < >, using COORD_*_GREATER/LESSER where it fits."""
+    lname, rname = query_name(left), query_name(right)
+    suffix = {">": "GREATER", "<": "LESSER"}
+    if lname in COORDS and isinstance(ast.unparen(left), ast.SelfCall):
+        value(right, ctx, out)
+        emit(out, f"COORD_{COORDS[lname]}_{suffix[op]}", span=span)
+    elif rname in COORDS and isinstance(ast.unparen(right), ast.SelfCall):
+        value(left, ctx, out)
+        emit(out, f"COORD_{COORDS[rname]}_{suffix[MIRROR[op]]}", span=span)
+    else:
+        value(left, ctx, out)
+        value(right, ctx, out)
+        emit(out, suffix[op], span=span)
+
+
+def jump_on(when: bool, target: Label, out: list[Item], span: object) -> None:
+    emit(out, "IF_TRUE_GOTO" if when else "IF_FALSE_GOTO", target, span=span)
+
+
+def truth(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
+    """Push a value that is non-zero exactly when ``expr != 0``."""
+    expr = ast.unparen(expr)
+    if isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and expr.args:
+        inner = ast.unparen(expr.args[0])
+        if not (isinstance(inner, ast.SelfCall) and inner.name.text in ("total_connected", "connected")):
+            truth(inner, ctx, out)
+            return
+    if isinstance(expr, ast.FunctionCall) and expr.name.text == "connected_role" and len(expr.args) == 2:
+        direction = fold(expr.args[0], ctx)
+        role = fold(expr.args[1], ctx)
+        if direction is not None and role is not None and direction.value in ROLE_DIRECTION_OPS:
+            emit(out, ROLE_DIRECTION_OPS[direction.value], role.value, span=expr.span)
+            return
+    value(expr, ctx, out)
+
+
+def cjump(expr: ast.Node, target: Label, when: bool, ctx: Context, out: list[Item]) -> None:
+    expr = ast.unparen(expr)
+    folded = fold(expr, ctx)
+    if folded is not None:
+        if bool(folded.value) == when:
+            emit(out, "GOTO", target, span=expr.span)
+        return
+    if isinstance(expr, ast.Unary) and expr.op == "!":
+        cjump(expr.operand, target, not when, ctx, out)
+    elif isinstance(expr, ast.Binary) and expr.op in ("&&", "||"):
+        if (expr.op == "&&") != when:
+            cjump(expr.left, target, when, ctx, out)
+            cjump(expr.right, target, when, ctx, out)
+        else:
+            skip = Label("skip")
+            cjump(expr.left, skip, not when, ctx, out)
+            cjump(expr.right, target, when, ctx, out)
+            out.append(skip)
+    elif isinstance(expr, ast.Binary) and expr.op in MIRROR:
+        cjump_compare(expr, target, when, ctx, out)
+    else:
+        truth(expr, ctx, out)
+        jump_on(when, target, out, expr.span)

@@ -1,0 +1,149 @@
+"""Constant folding, a small type inference, and evaluation over a module's local state.
+
+Local state = (axis, connected connset): enough to decide every invariant that uses only
+``center_position``, ``total_connected``, ``connected`` and ``sizeof``. Other queries are
+"not local" (None).
+"""
+
+from __future__ import annotations
+
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.geometry import facing
+from rdcd_core.semantics.model import Value
+from rdcd_core.syntax import ast
+from rdcd_core.types import Type
+
+COMPARE = {
+    "==": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
+    ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
+}
+LOCAL_QUERIES = ("center_position", "total_connected", "connected")
+QUERY_TYPES = {"center_position": Type.AXIS, "total_connected": Type.CONNSET,
+               "connected": Type.CONNSET, "x": Type.INT, "y": Type.INT, "z": Type.INT}
+
+
+def wrap(value: int) -> int:
+    return (value + 128) % 256 - 128
+
+
+def fold(expr: ast.Node, ctx: Context) -> Value | None:
+    """The compile-time value of ``expr`` for ``ctx.role``, or None."""
+    return _eval(expr, ctx, None)
+
+
+def eval_local(expr: ast.Node, ctx: Context, state: tuple[int, int]) -> int | None:
+    value = _eval(expr, ctx, state)
+    return None if value is None else value.value
+
+
+def type_of(expr: ast.Node, ctx: Context) -> Type:
+    expr = ast.unparen(expr)
+    if isinstance(expr, ast.IntLit):
+        return Type.INT
+    if isinstance(expr, ast.NameRef):
+        value = ctx.constant(expr.name.text)
+        return value.type if value is not None else Type.INT
+    if isinstance(expr, ast.Unary):
+        return Type.BOOL if expr.op == "!" else Type.INT
+    if isinstance(expr, ast.Binary):
+        return Type.INT if expr.op in "+-" else Type.BOOL
+    if isinstance(expr, ast.SelfCall):
+        return QUERY_TYPES.get(expr.name.text, Type.VOID)
+    if isinstance(expr, ast.FunctionCall):
+        return Type.INT if expr.name.text == "sizeof" else Type.CONNSET
+    return Type.VOID
+
+
+def _eval(expr: ast.Node, ctx: Context, state: tuple[int, int] | None) -> Value | None:
+    expr = ast.unparen(expr)
+    if isinstance(expr, ast.IntLit):
+        return Value(Type.INT, expr.value)
+    if isinstance(expr, ast.NameRef):
+        return ctx.constant(expr.name.text)
+    if isinstance(expr, ast.Unary):
+        inner = _eval(expr.operand, ctx, state)
+        if inner is None:
+            return None
+        if expr.op == "-":
+            return Value(Type.INT, wrap(-inner.value))
+        return Value(Type.BOOL, int(not inner.value))
+    if isinstance(expr, ast.Binary):
+        return _eval_binary(expr, ctx, state)
+    if state is not None and isinstance(expr, (ast.SelfCall, ast.FunctionCall)):
+        return _eval_query(expr, ctx, state)
+    return None
+
+
+def _eval_binary(expr: ast.Binary, ctx: Context, state: tuple[int, int] | None) -> Value | None:
+    left = _eval(expr.left, ctx, state)
+    if expr.op in ("&&", "||") and left is not None:
+        if bool(left.value) == (expr.op == "||"):
+            return Value(Type.BOOL, int(bool(left.value)))
+        right = _eval(expr.right, ctx, state)
+        return None if right is None else Value(Type.BOOL, int(bool(right.value)))
+    right = _eval(expr.right, ctx, state)
+    if left is None or right is None:
+        return None
+    if expr.op == "+":
+        return Value(Type.INT, wrap(left.value + right.value))
+    if expr.op == "-":
+        return Value(Type.INT, wrap(left.value - right.value))
+    return Value(Type.BOOL, int(COMPARE[expr.op](left.value, right.value)))
+
+
+def _eval_query(expr: ast.Node, ctx: Context, state: tuple[int, int]) -> Value | None:
+    axis, connected = state
+    name = expr.name.text
+    if isinstance(expr, ast.FunctionCall):
+        if name != "sizeof" or len(expr.args) != 1:
+            return None
+        inner = _eval(expr.args[0], ctx, state)
+        return None if inner is None else Value(Type.INT, bin(inner.value & 0xFF).count("1"))
+    if name == "center_position":
+        return Value(Type.AXIS, axis)
+    if name == "total_connected":
+        return Value(Type.CONNSET, connected)
+    if name == "connected" and len(expr.args) == 1:
+        direction = fold(expr.args[0], ctx)
+        if direction is None:
+            return None
+        return Value(Type.CONNSET, connected & facing(axis, direction.value))
+    return None
+
+
+def eval_vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int] | None:
+    """The value of ``expr`` in every local state (None if it is not local), memoised per node."""
+    key = ("vector", id(expr))
+    if key not in ctx.cache:
+        ctx.cache[key] = _vector(ast.unparen(expr), ctx, states)
+    return ctx.cache[key]  # type: ignore[return-value]
+
+
+def _vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int] | None:
+    folded = fold(expr, ctx)
+    if folded is not None:
+        return [folded.value] * len(states)
+    if isinstance(expr, ast.Unary):
+        inner = eval_vector(expr.operand, ctx, states)
+        if inner is None:
+            return None
+        return [wrap(-v) for v in inner] if expr.op == "-" else [int(not v) for v in inner]
+    if isinstance(expr, ast.Binary):
+        left, right = eval_vector(expr.left, ctx, states), eval_vector(expr.right, ctx, states)
+        if left is None or right is None:
+            return None
+        if expr.op in ("&&", "||"):
+            both = all if expr.op == "&&" else any
+            return [int(both((a, b))) for a, b in zip(left, right, strict=True)]
+        if expr.op in "+-":
+            sign = 1 if expr.op == "+" else -1
+            return [wrap(a + sign * b) for a, b in zip(left, right, strict=True)]
+        compare = COMPARE[expr.op]
+        return [int(compare(a, b)) for a, b in zip(left, right, strict=True)]
+    if isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and len(expr.args) == 1:
+        inner = eval_vector(expr.args[0], ctx, states)
+        return None if inner is None else [bin(v & 0xFF).count("1") for v in inner]
+    if isinstance(expr, ast.SelfCall) and expr.name.text in LOCAL_QUERIES:
+        values = [_eval_query(expr, ctx, state) for state in states]
+        return None if any(v is None for v in values) else [v.value for v in values]  # type: ignore[union-attr]
+    return None

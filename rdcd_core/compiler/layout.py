@@ -1,0 +1,49 @@
+"""Layout: turns a code list into bytes. Embedded bodies follow the code that names them; each
+body is laid out with its own nested bodies, its jump targets and ranges relative to its own
+start (it runs as a program of its own). Identical bodies share one range."""
+
+from __future__ import annotations
+
+from rdcd_core.compiler.ir import Body, Ins, Item, Label, bodies_of, code_size, encode
+from rdcd_core.compiler.program import SourceEntry
+
+
+def assemble(code: list[Item]) -> tuple[bytes, list[SourceEntry]]:
+    """Bytes of ``code`` with its bodies, and one source entry per instruction."""
+    labels: dict[int, int] = {}
+    offset = 0
+    for item in code:
+        if isinstance(item, Label):
+            labels[id(item)] = offset
+        else:
+            offset += item.size
+    blob = bytearray()
+    tail = bytearray()
+    tail_entries: list[SourceEntry] = []
+    ranges: dict[int, tuple[int, int]] = {}
+    placed: dict[bytes, int] = {}
+    main_size = code_size(code)
+    for body in bodies_of(code):
+        ranges[id(body)] = _place(body, main_size, tail, tail_entries, placed)
+    entries: list[SourceEntry] = []
+    for item in code:
+        if isinstance(item, Ins):
+            entries.append(SourceEntry(len(blob), item.size, item.span))
+            blob += encode(item, labels, ranges)
+    return bytes(blob + tail), entries + tail_entries
+
+
+def _place(body: Body, base: int, tail: bytearray, entries: list[SourceEntry],
+           placed: dict[bytes, int]) -> tuple[int, int]:
+    code, sub_entries = assemble(body.code)
+    if code in placed:
+        return placed[code], len(code)
+    start = base + len(tail)
+    placed[code] = start
+    tail += code
+    entries.extend(SourceEntry(start + e.offset, e.size, e.span) for e in sub_entries)
+    return start, len(code)
+
+
+def fragment_size(code: list[Item]) -> int:
+    return len(assemble(code)[0])

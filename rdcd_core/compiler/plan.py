@@ -1,0 +1,180 @@
+"""Fragments and the injection plan: group sibling discoveries, place each role's entry items in
+its discovery fragment while it fits the budget, split the rest into continuation fragments.
+
+Injection order = deployment order; for each group its discovery fragment, then its
+continuations. A role whose invariants observe neighbour roles is discovered by a fragment
+injected after the fragments that announce those roles; the injector must space injections so
+that a fragment has diffused (and its notifications arrived) before the next one is injected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.compiler import codes
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.discovery import common_prefix, continuation_code, group_code
+from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
+from rdcd_core.compiler.ir import Item
+from rdcd_core.compiler.layout import assemble
+from rdcd_core.compiler.peephole import optimise
+from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+
+
+@dataclass(slots=True)
+class Planner:
+    ctxs: dict[str, Context]
+    budget: int  # program bytes
+    fragments: list[Fragment] = field(default_factory=list)
+    diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+
+    def size(self, code: list[Item]) -> int:
+        return len(assemble(optimise(code))[0])
+
+    def add(self, name: str, kind: str, roles: list[str], code: list[Item], span: Span,
+            methods: list[str]) -> None:
+        blob, entries = assemble(optimise(code))
+        names = {f.name for f in self.fragments}
+        unique, n = name, 2
+        while unique in names:
+            unique, n = f"{name}_{n}", n + 1
+        role = roles[0] if len(roles) == 1 else None
+        self.fragments.append(Fragment(unique, kind, role, blob, entries, span, roles=list(roles),
+                                       methods=list(dict.fromkeys(methods))))
+        if len(blob) > self.budget:
+            self._over_budget(unique, len(blob), span)
+
+    def _over_budget(self, name: str, size: int, span: Span) -> None:
+        if size > MAX_PROGRAM_BYTES:
+            self.diagnostics.append(diag.make(
+                codes.FRAGMENT_TOO_LARGE, span,
+                f"fragment {name} is {size} bytes, more than the {MAX_PROGRAM_BYTES} bytes of a "
+                "program slot; split this code into smaller methods or statements"))
+        else:
+            self.diagnostics.append(diag.make(
+                codes.OVER_BUDGET, span,
+                f"fragment {name} is {size} bytes, over the packet budget of {self.budget} program "
+                "bytes, and could not be split; simplify this code"))
+
+
+def depends_on(ctx: Context, others: list[str]) -> bool:
+    for inv in ctx.model.roles[ctx.role].invariants:
+        for node in ast.walk(inv.decl.expr):
+            if isinstance(node, ast.FunctionCall) and node.name.text == "connected_role":
+                target = ast.unparen(node.args[1]) if len(node.args) == 2 else None
+                if isinstance(target, ast.NameRef) and any(
+                        ctx.model.is_subrole(o, target.name.text) for o in others):
+                    return True
+    return False
+
+
+def can_group(planner: Planner, group: list[str]) -> bool:
+    ctxs = [planner.ctxs[r] for r in group]
+    model = ctxs[0].model
+    if len({model.roles[r].parent for r in group}) != 1:
+        return False
+    if any(depends_on(ctx, group) for ctx in ctxs):
+        return False
+    common = common_prefix(ctxs)
+    return common > 0 and planner.size(group_code(ctxs, {}, common)) <= planner.budget
+
+
+def form_groups(planner: Planner, deployment: list[str]) -> list[list[str]]:
+    groups: list[list[str]] = []
+    for role in deployment:
+        if groups and can_group(planner, groups[-1] + [role]):
+            groups[-1].append(role)
+        else:
+            groups.append([role])
+    return groups
+
+
+def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryItem]]) -> None:
+    ctxs = [planner.ctxs[r] for r in group]
+    common = common_prefix(ctxs) if len(group) > 1 else 0
+    placed: dict[str, list[EntryItem]] = {r: [] for r in group}
+    rest: dict[str, list[EntryItem]] = {}
+    for role in group:
+        pending = list(items[role])
+        while pending:
+            placed[role].append(pending[0])
+            if planner.size(group_code(ctxs, placed, common)) > planner.budget:
+                placed[role].pop()
+                break
+            pending.pop(0)
+        rest[role] = pending
+    model = ctxs[0].model
+    span = model.roles[group[0]].decl.name.span
+    methods = [item.method for role in group for item in placed[role]]
+    planner.add("discover_" + "_".join(group), "discovery", group, group_code(ctxs, placed, common),
+                span, methods)
+    _continuations(planner, rest)
+
+
+Chunk = dict[str, list[EntryItem]]  # role -> its items in one continuation fragment
+
+
+def _chunk_code(planner: Planner, chunk: Chunk) -> list[Item]:
+    return continuation_code([(planner.ctxs[role], items) for role, items in chunk.items()])
+
+
+def _pack(planner: Planner, rest: dict[str, list[EntryItem]]) -> list[Chunk]:
+    """First fit, roles with most code first; a role's items stay in injection order."""
+    chunks: list[Chunk] = []
+    for role in sorted(rest, key=lambda r: -sum(planner.size(i.code) for i in rest[r])):
+        first = 0
+        for item in rest[role]:
+            for index in range(first, len(chunks) + 1):
+                if index == len(chunks):
+                    chunks.append({role: [item]})
+                    break
+                trial = {**chunks[index], role: chunks[index].get(role, []) + [item]}
+                if planner.size(_chunk_code(planner, trial)) <= planner.budget:
+                    chunks[index] = trial
+                    break
+            first = index
+    return chunks
+
+
+def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
+    for chunk in _pack(planner, {role: items for role, items in rest.items() if items}):
+        items = [item for role_items in chunk.values() for item in role_items]
+        kinds = {item.kind for item in items}
+        kind = kinds.pop() if len(kinds) == 1 else "entry"
+        roles = list(chunk)
+        span = items[0].span.cover(items[-1].span)
+        planner.add(f"{'_'.join(roles)}_{kind}", kind, roles, _chunk_code(planner, chunk), span,
+                    [item.method for item in items])
+
+
+def plan(ctxs: dict[str, Context], deployment: list[str], budget: int) -> Planner:
+    planner = Planner(ctxs, budget)
+    groups = form_groups(planner, deployment)
+    later: set[str] = set()
+    checks: dict[str, bool] = {}
+    for group in reversed(groups):
+        for role in group:
+            checks[role] = bool(later)
+        later.update(group)
+    for group in groups:
+        items = {role: split_items(planner, ctxs[role], entry_items(ctxs[role], checks[role]))
+                 for role in group}
+        plan_group(planner, group, items)
+    return planner
+
+
+def split_items(planner: Planner, ctx: Context, items: list[EntryItem]) -> list[EntryItem]:
+    """Startup statements too large for a fragment of their own, split where that is sound."""
+    result: list[EntryItem] = []
+    for item in items:
+        alone = planner.size(continuation_code([(ctx, [item])]))
+        parts = split_statement(item.stmt) if alone > planner.budget else []
+        if not parts:
+            result.append(item)
+            continue
+        smaller = [piece for part in parts for piece in startup_items(part, ctx, item.method)]
+        result += split_items(planner, ctx, smaller)
+    return result

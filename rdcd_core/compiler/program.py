@@ -1,0 +1,92 @@
+"""The compiler's output: fragments, the role table and the injection plan."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.source import Span
+
+HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
+DEFAULT_PACKET_BUDGET = 50
+PROGRAM_BUDGET = DEFAULT_PACKET_BUDGET - HEADER_BYTES
+MAX_PROGRAM_BYTES = 64  # a program store slot (dcd-vm.md §1)
+MAX_ROLE_IDS = 14
+COMMAND_TABLE_SIZE = 5
+PROGRAM_SLOTS = 10
+
+
+@dataclass(frozen=True, slots=True)
+class SourceEntry:
+    """The instruction at ``offset`` (``size`` bytes) came from ``span`` (line: 1-based or 0)."""
+
+    offset: int
+    size: int
+    span: Span | None
+    line: int = 0
+
+
+@dataclass(slots=True)
+class Fragment:
+    name: str
+    kind: str  # discovery | entry (startup, commands, behaviours of a role after discovery)
+    role: str | None
+    code: bytes
+    source_map: list[SourceEntry] = field(default_factory=list)
+    span: Span | None = None  # the source construct that caused the fragment
+    source: tuple[int, int] = (0, 0)  # (line, end_line), 1-based; (0, 0) if unknown
+    roles: list[str] = field(default_factory=list)  # the roles whose code it holds
+    methods: list[str] = field(default_factory=list)  # the methods whose code it holds
+
+    @property
+    def method(self) -> str | None:
+        """The method the fragment holds code of, when it is just one."""
+        return self.methods[0] if len(self.methods) == 1 else None
+
+    @property
+    def size(self) -> int:
+        return len(self.code)
+
+    @property
+    def source_lines(self) -> list[tuple[int, int]]:
+        """(offset, line) of each instruction."""
+        return [(entry.offset, entry.line) for entry in self.source_map]
+
+
+@dataclass(frozen=True, slots=True)
+class RoleEntry:
+    id: int
+    name: str  # a role, a mixin, or "Mixin@Role" for a mixin applied to a concrete role
+    kind: str  # concrete | abstract | mixin | application
+    instance_of: list[int]  # ids this role is an instance of, itself included
+
+
+@dataclass(slots=True)
+class CompiledProgram:
+    fragments: list[Fragment]
+    roles: list[RoleEntry]
+    injection: list[str]
+    packet_budget: int
+    diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+
+    @property
+    def total_bytes(self) -> int:
+        return sum(f.size for f in self.fragments)
+
+    @property
+    def max_fragment_bytes(self) -> int:
+        return max((f.size for f in self.fragments), default=0)
+
+    @property
+    def program_budget(self) -> int:
+        return self.packet_budget - HEADER_BYTES
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is diag.Severity.ERROR for d in self.diagnostics)
+
+    def fragment(self, name: str) -> Fragment:
+        return next(f for f in self.fragments if f.name == name)
+
+    def role_id(self, name: str) -> int:
+        return next(r.id for r in self.roles if r.name == name)

@@ -1,0 +1,183 @@
+"""Code for statements and calls: primitives, local method inlining, global commands,
+``handleEvent`` and ``assumeRole`` (role switch, body, restore)."""
+
+from __future__ import annotations
+
+from rdcd_core.compiler import codes
+from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
+from rdcd_core.compiler.fold import fold
+from rdcd_core.compiler.ir import Body, Item, Label
+from rdcd_core.compiler.roletable import application_name
+from rdcd_core.syntax import ast
+
+QUERIES = {"center_position", "total_connected", "connected", "x", "y", "z"}
+EVENT_OPS = {"disableEvent": "DISABLE_EVENT", "enableEvent": "ENABLE_EVENT", "clearEvent": "CLEAR_EVENT"}
+CMD_CW, CMD_CCW, CMD_STOP, CMD_DEGREES, CMD_TO = 1, 2, 3, 4, 5
+USER_COMMAND_BASE = 128
+
+
+def statements(stmts: tuple[ast.Stmt, ...] | list[ast.Stmt], ctx: Context, out: list[Item]) -> None:
+    for stmt in stmts:
+        statement(stmt, ctx, out)
+
+
+def statement(stmt: ast.Stmt, ctx: Context, out: list[Item]) -> None:
+    if isinstance(stmt, ast.Block):
+        statements(stmt.statements, ctx, out)
+    elif isinstance(stmt, ast.IfStmt):
+        _if(stmt, ctx, out)
+    elif isinstance(stmt, ast.CallStmt):
+        call(stmt.call, ctx, out)
+
+
+def _if(stmt: ast.IfStmt, ctx: Context, out: list[Item]) -> None:
+    otherwise = Label("else")
+    cjump(stmt.condition, otherwise, False, ctx, out)
+    statement(stmt.then_body, ctx, out)
+    if stmt.else_body is None:
+        out.append(otherwise)
+        return
+    end = Label("endif")
+    emit(out, "GOTO", end, span=stmt.span)
+    out.append(otherwise)
+    statement(stmt.else_body, ctx, out)
+    out.append(end)
+
+
+def body_of(block: ast.Node, ctx: Context, end_op: str) -> Body:
+    code: list[Item] = []
+    if isinstance(block, ast.Block):
+        statements(block.statements, ctx, code)
+    emit(code, end_op, span=getattr(block, "span", None))
+    return Body(code)
+
+
+def call(node: ast.Call, ctx: Context, out: list[Item]) -> None:
+    if isinstance(node, ast.GlobalCall):
+        role = ctx.table.id_of(node.role.text) or 0
+        number = ctx.command_numbers.get(node.name.text, 0)
+        emit(out, "SEND_COMMAND", role, USER_COMMAND_BASE + number, 0, span=node.span)
+    elif isinstance(node, ast.SelfCall) and node.name.text not in QUERIES:
+        _self_call(node, ctx, out)
+
+
+def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
+    name, args, span = node.name.text, node.args, node.span
+    handler = PRIMITIVE_CODE.get(name)
+    if handler is not None:
+        handler(args, ctx, out, span)
+        return
+    method = ctx.method(name)
+    if method is None or method.decl.body is None:
+        ctx.report(codes.UNSUPPORTED, span, f"'self.{name}' has no body to inline")
+    elif name in ctx.inlining:
+        ctx.report(codes.UNSUPPORTED, span, f"'self.{name}' calls itself; it cannot be inlined")
+    else:
+        ctx.inlining.append(name)
+        statements(method.decl.body.statements, ctx, out)
+        ctx.inlining.pop()
+
+
+def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    if not args:
+        return
+    if fold(args[0], ctx) is None:
+        _turn_by_value(args[0], ctx, out, span)
+        return
+    speed = const_arg(args[0], ctx, "the speed")
+    if speed is None:
+        return
+    if speed > 0:
+        emit(out, "EVAL_COMMAND", CMD_CW, speed, span=span)
+    elif speed < 0:
+        emit(out, "EVAL_COMMAND", CMD_CCW, -speed, span=span)
+    else:
+        emit(out, "EVAL_COMMAND", CMD_STOP, 0, span=span)
+
+
+def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object) -> None:
+    """A speed known only at run time: APPLY the direction's command to |speed| (0 stops)."""
+    zero = ast.IntLit(0, speed.span)
+    backwards, stop, end = Label("ccw"), Label("stop"), Label("end")
+    cjump(ast.Binary(">", speed, zero, speed.span, speed.span), backwards, False, ctx, out)
+    value(speed, ctx, out)
+    emit(out, "PUSH", CMD_CW, span=span)
+    emit(out, "APPLY", span=span)
+    emit(out, "GOTO", end, span=span)
+    out.append(backwards)
+    cjump(ast.Binary("<", speed, zero, speed.span, speed.span), stop, False, ctx, out)
+    value(speed, ctx, out)
+    emit(out, "NEGATE", span=span)
+    emit(out, "PUSH", CMD_CCW, span=span)
+    emit(out, "APPLY", span=span)
+    emit(out, "GOTO", end, span=span)
+    out.append(stop)
+    emit(out, "EVAL_COMMAND", CMD_STOP, 0, span=span)
+    out.append(end)
+
+
+def _tens(command: int):  # type: ignore[no-untyped-def]
+    def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        degrees = const_arg(args[0], ctx, "the angle") if args else None
+        if degrees is None:
+            return
+        emit(out, "EVAL_COMMAND", command, int(degrees / 10), span=span)
+    return generate
+
+
+def _immediate(op: str, what: str):  # type: ignore[no-untyped-def]
+    def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        operand = const_arg(args[0], ctx, what) if args else None
+        if operand is not None:
+            emit(out, op, operand, span=span)
+    return generate
+
+
+def _no_operand(op: str, *operands: int):  # type: ignore[no-untyped-def]
+    def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        emit(out, op, *operands, span=span)
+    return generate
+
+
+def _handle_event(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    event = const_arg(args[0], ctx, "the event") if args else None
+    if event is None or len(args) < 2:
+        return
+    saved, ctx.mixins = ctx.mixins, list(ctx.mixins)
+    body = body_of(args[1], ctx, "END_TERMINATE")
+    ctx.mixins = saved
+    emit(out, "HANDLE_EVENT", event, body, span=span)
+
+
+def _assume_role(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    mixin_ref = ast.unparen(args[0]) if args else None
+    if not isinstance(mixin_ref, ast.NameRef) or len(args) < 2:
+        return
+    mixin = mixin_ref.name.text
+    applied = ctx.table.id_of(application_name(mixin, ctx.role))
+    if applied is None:
+        ctx.report(codes.UNSUPPORTED, span, f"mixin {mixin} cannot be applied to {ctx.role}")
+        return
+    restore = ctx.current_role_id()
+    emit(out, "SET_ROLE_NOTIFY", applied, span=mixin_ref.span)
+    ctx.mixins.append(mixin)
+    block = args[1]
+    if isinstance(block, ast.Block):
+        statements(block.statements, ctx, out)
+    ctx.mixins.pop()
+    emit(out, "SET_ROLE_NOTIFY", restore, span=span)
+
+
+PRIMITIVE_CODE = {
+    "turnContinuously": _turn_continuously,
+    "turnTowards": _tens(CMD_TO),
+    "turnDegrees": _tens(CMD_DEGREES),
+    "stopTurning": _no_operand("EVAL_COMMAND", CMD_STOP, 0),
+    "sleepWhileTurning": _immediate("SLEEP_ROTATIONS", "the number of turns"),
+    "sleep": _no_operand("SLEEP"),
+    "setLed": _immediate("SET_LED", "the LED value"),
+    "handleEvent": _handle_event,
+    "assumeRole": _assume_role,
+    **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},
+}

@@ -1,0 +1,352 @@
+"""The canonical layout of RDCD programs (the style of ``examples/obstacle_avoidance.rdcd``).
+
+The formatter prints the AST again and threads every comment back in: comments before a role,
+member or statement stay on their own lines before it; comments on the same line as the end of
+something stay on that line. Formatting never changes the AST (``ast.strip_spans``) and is
+idempotent. Blocks passed as arguments stay on one line when the user wrote them on one line.
+"""
+
+from __future__ import annotations
+
+import difflib
+
+from rdcd_core.diagnostics import Severity, TextEdit
+from rdcd_core.source import LineIndex, Span
+from rdcd_core.syntax import ast
+
+INDENT = "  "
+MAX_INLINE = 100
+
+
+def format_text(text: str) -> str | None:
+    """The formatted text, or None if the text has syntax errors."""
+    from rdcd_core.syntax.parser import parse
+
+    try:
+        result = parse(text)
+    except Exception:  # the parser promises not to raise; be safe anyway
+        return None
+    errors = [d for d in result.diagnostics if d.severity is Severity.ERROR]
+    if result.program is None or errors:
+        return None
+    return format_program(result.program, text)
+
+
+def format_program(program: ast.Program, text: str) -> str:
+    return _Printer(program, text).run()
+
+
+def format_edits(text: str) -> list[TextEdit] | None:
+    """Minimal line edits that turn ``text`` into its formatted form (None on syntax errors)."""
+    formatted = format_text(text)
+    if formatted is None:
+        return None
+    return line_edits(text, formatted)
+
+
+def format_range(text: str, span: Span) -> list[TextEdit] | None:
+    """Formats the whole lines of the roles (and deployment) that ``span`` touches."""
+    from rdcd_core.syntax.parser import parse
+
+    result = parse(text)
+    if result.program is None or any(d.severity is Severity.ERROR for d in result.diagnostics):
+        return None
+    program = result.program
+    printer = _Printer(program, text)
+    printer.run()
+    items = [*program.roles, *([program.deployment] if program.deployment else [])]
+    index = LineIndex(text)
+    touched = [i for i in items if i.span.start <= span.end and span.start <= i.span.end]
+    if not touched:
+        return []
+    first = index.line_col(min(i.span.start for i in touched)).line
+    last = index.line_col(max(i.span.end for i in touched)).line
+    changed = True
+    while changed:  # items sharing a line with the region join it
+        changed = False
+        for item in items:
+            a, b = index.line_col(item.span.start).line, index.line_col(item.span.end).line
+            if a <= last and b >= first and (a < first or b > last):
+                first, last, changed = min(first, a), max(last, b), True
+    start = index.offset(first, 0)
+    end = index.line_starts[last + 1] if last + 1 < index.line_count else len(text)
+    limit = end + 1 if end == len(text) else end
+    lines = [n for n, anchor in enumerate(printer.anchors) if anchor is not None and start <= anchor < limit]
+    if not lines:
+        return []
+    new_text = "\n".join(printer.out[lines[0]:lines[-1] + 1]) + "\n"
+    if text[start:end] == new_text:
+        return []
+    return [TextEdit(Span(start, end), new_text)]
+
+
+def line_edits(old: str, new: str, lines: tuple[int, int] | None = None) -> list[TextEdit]:
+    """Line-based edits from ``old`` to ``new``; only hunks touching ``lines`` when given."""
+    if old == new:
+        return []
+    old_lines = old.splitlines(keepends=True)
+    new_lines = new.splitlines(keepends=True)
+    starts = [0]
+    for line in old_lines:
+        starts.append(starts[-1] + len(line))
+    edits: list[TextEdit] = []
+    matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        if tag == "equal":
+            continue
+        if lines is not None and not (i1 <= lines[1] and max(i1, i2 - 1) >= lines[0]):
+            continue
+        edits.append(TextEdit(Span(starts[i1], starts[i2]), "".join(new_lines[j1:j2])))
+    return edits
+
+
+class _Printer:
+    def __init__(self, program: ast.Program, text: str) -> None:
+        self.program = program
+        self.text = text
+        self.comments = sorted(program.comments, key=lambda c: c.span.start)
+        self.next_comment = 0
+        self.out: list[str] = []  # finished lines
+        self.anchors: list[int | None] = []  # for each line, a source offset it comes from
+        self.last_end = 0  # source offset of the end of the last thing printed
+
+    # -- comments ---------------------------------------------------------------------------
+    def _pending(self) -> ast.Comment | None:
+        if self.next_comment < len(self.comments):
+            return self.comments[self.next_comment]
+        return None
+
+    def _blank_before(self, offset: int) -> bool:
+        gap = self.text[self.last_end:offset]
+        return self.last_end > 0 and gap.strip() == "" and gap.count("\n") >= 2
+
+    def _emit(self, line: str, anchor: int) -> None:
+        self.out.append(line.rstrip() if "\n" not in line else line)
+        self.anchors.append(anchor)
+
+    def _blank(self) -> None:
+        if self.out and self.out[-1] != "":
+            self.out.append("")
+            self.anchors.append(None)
+
+    def leading(self, offset: int, depth: int) -> None:
+        """Own-line comments that start before ``offset``."""
+        while (comment := self._pending()) is not None and comment.span.start < offset:
+            if self._blank_before(comment.span.start):
+                self._blank()
+            self._emit(INDENT * depth + comment.text, comment.span.start)
+            self.next_comment += 1
+            self.last_end = comment.span.end
+
+    def line(self, content: str, end: int, depth: int) -> None:
+        """Prints one line whose source ends at ``end``, with the comments inside or after it."""
+        trailing: list[str] = []
+        anchor = end
+        while (comment := self._pending()) is not None:
+            inside = comment.span.start < end
+            gap = self.text[max(end, self.last_end):comment.span.start]
+            after = comment.span.start >= end and "\n" not in gap
+            if not (inside or after):
+                break
+            trailing.append(comment.text)
+            self.next_comment += 1
+            end = max(end, comment.span.end)
+            if comment.text.startswith("//"):
+                break
+        self.last_end = max(self.last_end, end)
+        text = INDENT * depth + content
+        if trailing:
+            text += " " + " ".join(trailing)
+        self._emit(text, anchor)
+        # comments after a line comment stay pending: the next line or leading() places them
+
+    def separate(self, offset: int) -> None:
+        """Keeps one blank line where the user had at least one."""
+        if self._blank_before(offset):
+            self._blank()
+
+    # -- program ----------------------------------------------------------------------------
+    def run(self) -> str:
+        items: list[ast.RoleDecl | ast.Deployment] = list(self.program.roles)
+        if self.program.deployment is not None:
+            items.append(self.program.deployment)
+        for position, item in enumerate(items):
+            if position > 0:
+                self._blank()
+            self.leading(item.span.start, 0)
+            self.separate(item.span.start)
+            if isinstance(item, ast.RoleDecl):
+                self.role(item)
+            else:
+                self.deployment(item)
+        self.leading(len(self.text) + 1, 0)
+        while self.out and self.out[-1] == "":
+            self.out.pop()
+            self.anchors.pop()
+        return "\n".join(self.out) + "\n" if self.out else ""
+
+    def role(self, role: ast.RoleDecl) -> None:
+        header = "abstract role " if role.is_abstract else "role "
+        header += role.name.text
+        if role.extends is not None:
+            header += " extends " + role.extends.text
+        if role.modifies is not None:
+            header += " modifies " + role.modifies.text
+        if not role.members and not self._comments_in(role.span):
+            self.line(header + " { }", role.span.end, 0)
+            return
+        self.line(header + " {", role.header_span.end, 0)
+        for member in role.members:
+            self.leading(member.span.start, 1)
+            self.separate(member.span.start)
+            self.member(member)
+        self.leading(role.span.end - 1, 1)
+        self.line("}", role.span.end, 0)
+
+    def _comments_in(self, span: Span) -> bool:
+        comment = self._pending()
+        return comment is not None and comment.span.start < span.end
+
+    def deployment(self, deployment: ast.Deployment) -> None:
+        names = ", ".join(name.text for name in deployment.roles)
+        self.line(f"deployment {{ {names} }}" if names else "deployment { }", deployment.span.end, 0)
+
+    def member(self, member: ast.Member) -> None:
+        if isinstance(member, ast.AbstractConstants):
+            names = ", ".join(name.text for name in member.names)
+            self.line(f"abstract constant {names};", member.span.end, 1)
+        elif isinstance(member, ast.ConstantDef):
+            self.line(f"constant {member.name.text} := {expr(member.value)};", member.span.end, 1)
+        elif isinstance(member, ast.Invariant):
+            self.line(expr(member.expr) + ";", member.span.end, 1)
+        else:
+            self.method(member)
+
+    def method(self, method: ast.MethodDecl) -> None:
+        words = [m.keyword for m in method.modifiers] + [method.name.text + "()"]
+        head = " ".join(words)
+        if method.body is None:
+            self.line(head + ";", method.span.end, 1)
+            return
+        self.block(method.body, head + " ", 1, "")
+
+    # -- statements ---------------------------------------------------------------------------
+    def block(self, block: ast.Block, prefix: str, depth: int, suffix: str) -> None:
+        """``prefix{`` … ``}suffix``, the statements one level deeper."""
+        if not block.statements and not self._comments_in(block.span):
+            self.line(prefix + "{ }" + suffix, block.span.end, depth)
+            return
+        self.line(prefix + "{", block.span.start + 1, depth)
+        for statement in block.statements:
+            self.leading(statement.span.start, depth + 1)
+            self.separate(statement.span.start)
+            self.statement(statement, depth + 1)
+        self.leading(block.span.end - 1, depth + 1)
+        self.line("}" + suffix, block.span.end, depth)
+
+    def statement(self, statement: ast.Stmt, depth: int, prefix: str = "") -> None:
+        if isinstance(statement, ast.Block):
+            self.block(statement, prefix, depth, "")
+        elif isinstance(statement, ast.EmptyStmt):
+            self.line(prefix + ";", statement.span.end, depth)
+        elif isinstance(statement, ast.CallStmt):
+            self.call_statement(statement, depth, prefix)
+        else:
+            self.if_statement(statement, depth, prefix)
+
+    def if_statement(self, statement: ast.IfStmt, depth: int, prefix: str) -> None:
+        head = f"{prefix}if ({expr(statement.condition)})"
+        self.body(statement.then_body, head, statement.condition.span.end + 1, depth)
+        if statement.else_body is None:
+            return
+        else_start = statement.else_span.start if statement.else_span else statement.else_body.span.start
+        self.leading(else_start, depth)
+        else_end = statement.else_span.end if statement.else_span else else_start
+        if isinstance(statement.else_body, ast.IfStmt):
+            self.if_statement(statement.else_body, depth, "else ")
+        else:
+            self.body(statement.else_body, "else", else_end, depth)
+
+    def body(self, body: ast.Stmt, head: str, head_end: int, depth: int) -> None:
+        if isinstance(body, ast.Block):
+            self.block(body, head + " ", depth, "")
+        else:
+            self.line(head, head_end, depth)
+            self.leading(body.span.start, depth + 1)
+            self.statement(body, depth + 1)
+
+    def call_statement(self, statement: ast.CallStmt, depth: int, prefix: str) -> None:
+        call = statement.call
+        args = call.args
+        multi = [a for a in args if isinstance(a, ast.Block) and not self._inline_block(a, depth)]
+        if not multi:
+            self.line(prefix + expr(call, self.text) + ";", statement.span.end, depth)
+            return
+        # a call whose last block argument spans several lines: `self.f(a, {` … `});`
+        block = multi[-1]
+        before = [arg_text(a, self.text) for a in args[: args.index(block)]]
+        head = prefix + call_head(call) + "(" + "".join(b + ", " for b in before)
+        after = args[args.index(block) + 1:]
+        tail = "".join(", " + arg_text(a, self.text) for a in after) + ");"
+        self.block(block, head, depth, tail)
+        self.last_end = max(self.last_end, statement.span.end)
+
+    def _inline_block(self, block: ast.Block, depth: int) -> bool:
+        source = self.text[block.span.start:block.span.end]
+        if "\n" in source or self._comments_in_range(block.span):
+            return False
+        return len(INDENT * depth) + len(inline_block(block)) <= MAX_INLINE
+
+    def _comments_in_range(self, span: Span) -> bool:
+        return any(span.start <= c.span.start < span.end for c in self.comments)
+
+
+# -- expressions (pure functions) -----------------------------------------------------------------
+def expr(node: ast.Arg, text: str = "") -> str:
+    if isinstance(node, ast.IntLit):
+        return str(node.value)
+    if isinstance(node, ast.NameRef):
+        return node.name.text
+    if isinstance(node, ast.Unary):
+        return node.op + expr(node.operand, text)
+    if isinstance(node, ast.Binary):
+        return f"{expr(node.left, text)} {node.op} {expr(node.right, text)}"
+    if isinstance(node, ast.Paren):
+        return f"({expr(node.expr, text)})"
+    if isinstance(node, ast.Block):
+        return inline_block(node)
+    if isinstance(node, ast.SelfCall):
+        if not node.has_parens:
+            return "self." + node.name.text
+    return call_head(node) + "(" + ", ".join(arg_text(a, text) for a in node.args) + ")"
+
+
+def arg_text(node: ast.Arg, text: str) -> str:
+    return expr(node, text)
+
+
+def call_head(call: ast.Call) -> str:
+    if isinstance(call, ast.SelfCall):
+        return "self." + call.name.text
+    if isinstance(call, ast.GlobalCall):
+        return f"{call.role.text}.{call.name.text}"
+    return call.name.text
+
+
+def inline_block(block: ast.Block) -> str:
+    if not block.statements:
+        return "{ }"
+    return "{ " + " ".join(inline_statement(s) for s in block.statements) + " }"
+
+
+def inline_statement(statement: ast.Stmt) -> str:
+    if isinstance(statement, ast.Block):
+        return inline_block(statement)
+    if isinstance(statement, ast.EmptyStmt):
+        return ";"
+    if isinstance(statement, ast.CallStmt):
+        return expr(statement.call) + ";"
+    text = f"if ({expr(statement.condition)}) {inline_statement(statement.then_body)}"
+    if statement.else_body is not None:
+        text += " else " + inline_statement(statement.else_body)
+    return text

@@ -1,0 +1,70 @@
+"""The front end in one call: parse, analyze and (for error-free programs) check target limits.
+
+The CLI, the language server and the tests all use ``check_text``; it never raises on user input.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.semantics import analyze
+from rdcd_core.semantics.codes import INTERNAL_ERROR
+from rdcd_core.semantics.model import Model
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+from rdcd_core.syntax.parser import parse
+
+
+@dataclass
+class CheckResult:
+    text: str
+    program: ast.Program
+    model: Model
+    diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity is diag.Severity.ERROR for d in self.diagnostics)
+
+
+def check_text(text: str, *, packet_budget: int = 50) -> CheckResult:
+    """Syntax and semantic diagnostics of ``text`` (plus the compiler's, when error-free)."""
+    try:
+        parsed = parse(text)
+    except Exception as error:  # a parser bug: report it, keep the editor and the CLI alive
+        empty = ast.Program((), None, Span(0, len(text)))
+        return CheckResult(text, empty, Model(empty, {}, [], []), [_internal(error, "parsing")])
+    result = CheckResult(text, parsed.program, Model(parsed.program, {}, [], []),
+                         list(parsed.diagnostics))
+    try:
+        result.model = analyze(parsed.program)
+    except Exception as error:  # a bug must not take the editor or the CLI down
+        result.diagnostics.append(_internal(error, "semantic analysis"))
+        return _sorted(result)
+    result.diagnostics.extend(result.model.diagnostics)
+    if not result.has_errors:
+        result.diagnostics.extend(_target_diagnostics(result.model, packet_budget))
+    return _sorted(result)
+
+
+def _target_diagnostics(model: Model, packet_budget: int) -> list[diag.Diagnostic]:
+    try:
+        from rdcd_core.compiler import target_diagnostics  # type: ignore[attr-defined]
+    except (ImportError, AttributeError):
+        return []
+    try:
+        return list(target_diagnostics(model, packet_budget))
+    except Exception as error:  # the compiler is another layer: report, do not crash
+        return [_internal(error, "compilation")]
+
+
+def _internal(error: Exception, stage: str) -> diag.Diagnostic:
+    return diag.make(INTERNAL_ERROR, Span(0, 0),
+                     f"internal error during {stage}: {type(error).__name__}: {error}; "
+                     "please report this bug")
+
+
+def _sorted(result: CheckResult) -> CheckResult:
+    result.diagnostics.sort(key=lambda d: (d.span.start, d.span.end, d.code))
+    return result

@@ -1,0 +1,75 @@
+"""Document symbols (roles with their members, the deployment) and workspace symbol search."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rdcd_core.ide.analysis import Analysis
+from rdcd_core.source import Span as Span_t
+from rdcd_core.syntax import ast
+
+
+@dataclass
+class Symbol:
+    name: str
+    kind: str  # role, mixin, constant, method, invariant, deployment
+    detail: str
+    span: Span_t
+    selection: Span_t
+    children: list[Symbol] = field(default_factory=list)
+
+
+def _role_detail(role: ast.RoleDecl) -> str:
+    words = ["abstract role" if role.is_abstract else "role"]
+    if role.extends is not None:
+        words.append(f"extends {role.extends.text}")
+    if role.modifies is not None:
+        words.append(f"modifies {role.modifies.text}")
+    return " ".join(words)
+
+
+def _member_symbols(role: ast.RoleDecl) -> list[Symbol]:
+    result = []
+    for member in role.members:
+        if isinstance(member, ast.AbstractConstants):
+            result += [Symbol(n.text, "constant", "abstract constant", member.span, n.span)
+                       for n in member.names]
+        elif isinstance(member, ast.ConstantDef):
+            result.append(Symbol(member.name.text, "constant", "constant", member.span, member.name.span))
+        elif isinstance(member, ast.MethodDecl):
+            detail = " ".join(m.keyword for m in member.modifiers) or "method"
+            result.append(Symbol(member.name.text + "()", "method", detail, member.span, member.name.span))
+    return result
+
+
+def document_symbols(analysis: Analysis) -> list[Symbol]:
+    program = analysis.program
+    if program is None:
+        return []
+    symbols = []
+    for role in program.roles:
+        if not role.name.text:
+            continue
+        kind = "mixin" if role.modifies is not None else "role"
+        symbols.append(Symbol(role.name.text, kind, _role_detail(role), role.span, role.name.span,
+                              _member_symbols(role)))
+    if program.deployment is not None:
+        deployment = program.deployment
+        names = ", ".join(n.text for n in deployment.roles)
+        symbols.append(Symbol("deployment", "deployment", names, deployment.span,
+                              Span_t(deployment.span.start, deployment.span.start + len("deployment"))))
+    return symbols
+
+
+def workspace_symbols(documents: dict[str, Analysis], query: str) -> list[tuple[str, Symbol, str]]:
+    """(uri, symbol, container) for every role and member whose name contains ``query``."""
+    query = query.lower()
+    found = []
+    for uri, analysis in documents.items():
+        for symbol in document_symbols(analysis):
+            if query in symbol.name.lower():
+                found.append((uri, symbol, ""))
+            for child in symbol.children:
+                if query in child.name.lower():
+                    found.append((uri, child, symbol.name))
+    return found

@@ -1,0 +1,34 @@
+"""The order of the semantic passes."""
+
+from __future__ import annotations
+
+from rdcd_core.semantics import conflicts, deployment, limits, members
+from rdcd_core.semantics.bodies import check_bodies
+from rdcd_core.semantics.constants import fold_constants
+from rdcd_core.semantics.context import Context
+from rdcd_core.semantics.hierarchy import build_roles
+from rdcd_core.semantics.inlining import check_inlined_scoping
+from rdcd_core.semantics.model import Model
+from rdcd_core.semantics.recursion import check_recursion
+from rdcd_core.syntax import ast
+
+
+def run(program: ast.Program) -> Model:
+    model = Model(program, {}, [], [])
+    ctx = Context(model)
+    build_roles(ctx, program)
+    members.copy_down(ctx)
+    fold_constants(ctx)
+    members.check_missing_definitions(ctx)
+    children = members.children_map(ctx)
+    check_bodies(ctx, children)
+    check_recursion(ctx)
+    check_inlined_scoping(ctx)
+    seen = deployment.check_deployment(ctx)
+    limits.check_limits(ctx, seen)
+    deployment.check_discovery_order(ctx, seen)
+    conflicts.check_conflicts(ctx, seen)
+    deployment.check_dead_roles(ctx)
+    model.diagnostics.sort(key=lambda d: (d.span.start, d.span.end, d.code))
+    model.references.sort(key=lambda r: r.name.span.start)
+    return model

@@ -1,0 +1,80 @@
+"""Shared state of one analysis run: the model being built, diagnostics and references."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.semantics.model import Model, Reference
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+
+
+class Context:
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self._seen: set[tuple[str, int, int]] = set()
+        self._ref_spans: set[tuple[int, int]] = set()
+        self._ancestors: dict[str, list[str]] = {}
+        self.folding: set[int] = set()  # ids of constant symbols being folded (cycle detection)
+        self.folded: set[int] = set()
+        # plain-method calls: id(caller MethodDecl) -> [(callee MethodDecl, call name)]
+        self.call_edges: dict[int, list[tuple[ast.MethodDecl, ast.Name]]] = {}
+        self.methods_by_id: dict[int, ast.MethodDecl] = {}
+        self.observed: dict[int, list[tuple[str, ast.Name]]] = {}  # id(Invariant) -> roles
+        # for assumeRole scoping through inlined plain methods (inlining.py)
+        self.assumes: dict[int, set[str]] = {}  # id(MethodDecl) -> mixins it assumes itself
+        self.installs_handler: set[int] = set()  # ids of methods that call handleEvent
+        # (callee, call name, mixins played at the call, inside an assumeRole block)
+        self.inlined: list[tuple[ast.MethodDecl, ast.Name, tuple[str, ...], bool]] = []
+        # roles the code observes at run time (connected_role, Role.cmd()) and mixins it assumes
+        self.observed_roles: dict[str, ast.Name] = {}
+        self.assumed_mixins: dict[str, ast.Name] = {}
+
+    # -- diagnostics -------------------------------------------------------------------
+    def report(self, code: str, span: Span, message: str, *,
+               related: Iterable[diag.Related] = (), fixes: Iterable[diag.Fix] = ()) -> None:
+        """Adds a diagnostic; a second one with the same code and range is dropped."""
+        key = (code, span.start, span.end)
+        if key in self._seen:
+            return
+        self._seen.add(key)
+        self.model.diagnostics.append(
+            diag.make(code, span, message, related=tuple(related), fixes=tuple(fixes)))
+
+    # -- references --------------------------------------------------------------------
+    def reference(self, name: ast.Name, kind: str, target: str, is_definition: bool = False) -> None:
+        key = (name.span.start, name.span.end)
+        if key in self._ref_spans or not name.text:
+            return
+        self._ref_spans.add(key)
+        self.model.references.append(Reference(name, kind, target, is_definition))
+
+    # -- hierarchy (cached) ------------------------------------------------------------
+    def ancestors(self, role: str) -> list[str]:
+        cached = self._ancestors.get(role)
+        if cached is None:
+            cached = self.model.ancestors(role)
+            self._ancestors[role] = cached
+        return cached
+
+    def is_subrole(self, role: str, ancestor: str) -> bool:
+        return ancestor in self.ancestors(role)
+
+
+def suggest(name: str, candidates: Iterable[str]) -> str | None:
+    matches = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    return matches[0] if matches else None
+
+
+def rename_fix(span: Span, replacement: str) -> tuple[diag.Fix, ...]:
+    return (diag.Fix(f"replace with '{replacement}'", (diag.TextEdit(span, replacement),)),)
+
+
+def did_you_mean(name: str, candidates: Iterable[str], span: Span) -> tuple[str, tuple[diag.Fix, ...]]:
+    """A message suffix and the replacement fix for an unknown ``name`` written at ``span``."""
+    best = suggest(name, candidates)
+    if best is None:
+        return "", ()
+    return f"; did you mean '{best}'?", rename_fix(span, best)

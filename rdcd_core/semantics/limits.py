@@ -1,0 +1,58 @@
+"""Limits of the target (language.md §6) that the checker reports: role identifiers, command tables.
+
+The role identifiers are counted as the compiler assigns them (dcd-vm.md §8): deployed roles;
+roles observed at run time (``connected_role`` and command targets); observed mixins; one per
+application of an assumed mixin to a deployed role it can modify.
+"""
+
+from __future__ import annotations
+
+from rdcd_core import diagnostics as diag
+from rdcd_core.semantics import codes
+from rdcd_core.semantics.context import Context
+from rdcd_core.semantics.model import MethodSymbol
+from rdcd_core.syntax import ast
+
+MAX_ROLE_IDS = 14
+MAX_COMMANDS = 5
+
+
+def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
+    roles = ctx.model.roles
+    observed, assumed = ctx.observed_roles, ctx.assumed_mixins
+    ids: list[tuple[str, ast.Name]] = list(deployed.items())
+    ids += [(r, n) for r, n in observed.items() if not roles[r].is_mixin and r not in deployed]
+    ids += [(r, n) for r, n in observed.items() if roles[r].is_mixin]
+    applications: list[tuple[str, str]] = []
+    for mixin, name in assumed.items():
+        if not roles[mixin].is_mixin:
+            continue
+        for role in deployed:
+            if roles[mixin].modifies in ctx.ancestors(role):
+                ids.append((f"{mixin}@{role}", name))
+                applications.append((mixin, role))
+    if len(ids) > MAX_ROLE_IDS:
+        what, name = ids[MAX_ROLE_IDS]
+        ctx.report(codes.TOO_MANY_ROLE_IDS, name.span,
+                   f"the program needs {len(ids)} role identifiers (deployed and observed roles, "
+                   f"one per mixin application); the target has {MAX_ROLE_IDS}: the 15th is "
+                   f"'{what}'; deploy fewer roles or assume fewer mixins")
+    for role in deployed:
+        _check_table(ctx, role, list(roles[role].methods.values()))
+    for mixin, role in applications:
+        merged = dict(roles[role].methods)
+        merged.update(roles[mixin].methods)
+        _check_table(ctx, mixin, list(merged.values()), applied_to=role)
+
+
+def _check_table(ctx: Context, role: str, methods: list[MethodSymbol], applied_to: str = "") -> None:
+    commands = [m for m in methods if m.kind is ast.MethodKind.COMMAND]
+    decl = ctx.model.roles[role].decl
+    if len(commands) <= MAX_COMMANDS or decl is None:
+        return
+    what = f"'{role}' applied to '{applied_to}'" if applied_to else f"role '{role}'"
+    ctx.report(codes.TOO_MANY_COMMANDS, decl.name.span,
+               f"{what} has {len(commands)} commands (inherited ones included); the target's "
+               f"command table holds {MAX_COMMANDS}: merge or remove some",
+               related=tuple(diag.Related(m.decl.name.span, f"command '{m.name}'")
+                             for m in commands))

@@ -1,0 +1,180 @@
+"""Builds the AST during parsing: one method per grammar rule, called by Lark's tree builder.
+
+Every child is either a ``Tok`` (all terminals are named, so keywords and punctuation are kept
+and give the exact spans), an AST node, a list (``args``), a tuple (super-role clauses), a Lark
+``Tree`` of a repetition helper (already spliced by Lark), or ``None`` for an absent ``[...]``.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+from rdcd_core.syntax.lexer import Tok
+
+_HUGE = 10**18  # stands for integer literals too long to convert; semantics reports the range
+MAX_DEPTH = 100  # deeper trees would overflow the recursion of the later passes (and of dataclass ==)
+
+
+class _Depths(threading.local):
+    """Nesting depth of the composite nodes built by the current parse (of this thread)."""
+
+    def __init__(self) -> None:
+        self.reset()
+
+    def reset(self) -> list:
+        self.depth: dict[int, int] = {}
+        self.keep: list = []  # holds the nodes, so that their ids stay unique during the parse
+        self.too_deep: list = []
+        return self.too_deep
+
+
+DEPTHS = _Depths()
+
+
+def _nested(node: Any, depth: int) -> Any:
+    DEPTHS.depth[id(node)] = depth
+    DEPTHS.keep.append(node)
+    if depth == MAX_DEPTH + 1:
+        DEPTHS.too_deep.append(node)
+    return node
+
+
+def _deepest(children: Any) -> int:
+    get = DEPTHS.depth.get
+    return max((get(id(child), 0) for child in children), default=0)
+
+
+def _span(first: Any, last: Any) -> Span:
+    start = first.start if isinstance(first, Tok) else first.span.start
+    end = last.end if isinstance(last, Tok) else last.span.end
+    return Span(start, end)
+
+
+def _name(tok: Tok) -> ast.Name:
+    return ast.Name(tok.value, Span(tok.start, tok.end))
+
+
+def _args(children: list) -> tuple:
+    for child in children:
+        if isinstance(child, list):
+            return tuple(child)
+    return ()
+
+
+class AstBuilder:
+    """The ``transformer`` given to Lark (methods are looked up by rule name or alias)."""
+
+    # ------------------------------------------------------------------ program and roles
+
+    def start(self, c: list) -> tuple:
+        roles = tuple(x for x in c if isinstance(x, ast.RoleDecl))
+        deployment = c[-1] if c and isinstance(c[-1], ast.Deployment) else None
+        return roles, deployment
+
+    def role(self, c: list) -> ast.RoleDecl:
+        abstract, role_kw, name, sup, lbrace = c[0], c[1], c[2], c[3], c[4]
+        first = abstract if abstract is not None else role_kw
+        extends = sup[1] if sup is not None and sup[0] == "extends" else None
+        modifies = sup[1] if sup is not None and sup[0] == "modifies" else None
+        return ast.RoleDecl(
+            name=_name(name), is_abstract=abstract is not None, extends=extends, modifies=modifies,
+            members=tuple(c[5:-1]), span=_span(first, c[-1]), header_span=_span(first, lbrace),
+            abstract_span=Span(abstract.start, abstract.end) if abstract is not None else None)
+
+    def extends_clause(self, c: list) -> tuple:
+        return "extends", _name(c[1])
+
+    def modifies_clause(self, c: list) -> tuple:
+        return "modifies", _name(c[1])
+
+    def deployment(self, c: list) -> ast.Deployment:
+        names = tuple(_name(x) for x in c if isinstance(x, Tok) and x.type == "NAME")
+        return ast.Deployment(names, _span(c[0], c[-1]))
+
+    # ------------------------------------------------------------------ members
+
+    def abstract_constants(self, c: list) -> ast.AbstractConstants:
+        names = tuple(_name(x) for x in c if x.type == "NAME")
+        return ast.AbstractConstants(names, _span(c[0], c[-1]))
+
+    def constant_def(self, c: list) -> ast.ConstantDef:
+        return ast.ConstantDef(_name(c[1]), c[3], _span(c[0], c[4]))
+
+    def invariant(self, c: list) -> ast.Invariant:
+        return ast.Invariant(c[0], _span(c[0], c[1]))
+
+    def method(self, c: list) -> ast.MethodDecl:
+        modifiers = tuple(c[:-4])
+        body = c[-1] if isinstance(c[-1], ast.Block) else None
+        return ast.MethodDecl(_name(c[-4]), modifiers, body, _span(c[0], c[-1]))
+
+    def modifier(self, c: list) -> ast.Modifier:
+        return ast.Modifier(c[0].value, Span(c[0].start, c[0].end))
+
+    # ------------------------------------------------------------------ statements
+
+    def block(self, c: list) -> ast.Block:
+        statements = tuple(c[1:-1])
+        return _nested(ast.Block(statements, _span(c[0], c[-1])), _deepest(statements) + 1)
+
+    def empty_stmt(self, c: list) -> ast.EmptyStmt:
+        return ast.EmptyStmt(Span(c[0].start, c[0].end))
+
+    def call_stmt(self, c: list) -> ast.CallStmt:
+        return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), DEPTHS.depth.get(id(c[0]), 0) + 1)
+
+    def if_stmt(self, c: list) -> ast.IfStmt:
+        else_kw = c[5] if len(c) > 6 else None
+        else_body = c[6] if else_kw is not None else None
+        last = else_body if else_body is not None else c[4]
+        node = ast.IfStmt(c[2], c[4], else_body, _span(c[0], last),
+                          Span(else_kw.start, else_kw.end) if else_kw is not None else None)
+        return _nested(node, _deepest((c[2], c[4], else_body)) + 1)
+
+    # ------------------------------------------------------------------ calls
+
+    def self_call(self, c: list) -> ast.SelfCall:
+        args = _args(c)
+        node = ast.SelfCall(_name(c[2]), args, len(c) > 3, _span(c[0], c[-1]))
+        return _nested(node, _deepest(args) + 1) if args else node
+
+    def function_call(self, c: list) -> ast.FunctionCall:
+        args = _args(c)
+        return _nested(ast.FunctionCall(_name(c[0]), args, _span(c[0], c[-1])), _deepest(args) + 1)
+
+    def global_call(self, c: list) -> ast.GlobalCall:
+        args = _args(c)
+        node = ast.GlobalCall(_name(c[0]), _name(c[2]), args, _span(c[0], c[-1]))
+        return _nested(node, _deepest(args) + 1) if args else node
+
+    def args(self, c: list) -> list:
+        return [x for x in c if not isinstance(x, Tok)]
+
+    # ------------------------------------------------------------------ expressions
+
+    def binary(self, c: list) -> ast.Binary:
+        left, op, right = c
+        get = DEPTHS.depth.get
+        depth = max(get(id(left), 0), get(id(right), 0)) + 1
+        return _nested(ast.Binary(op.value, left, right, _span(left, right), Span(op.start, op.end)), depth)
+
+    def unary(self, c: list) -> ast.Unary:
+        return _nested(ast.Unary(c[0].value, c[1], _span(c[0], c[1])), DEPTHS.depth.get(id(c[1]), 0) + 1)
+
+    def int_lit(self, c: list) -> ast.IntLit:
+        tok = c[0]
+        try:
+            value = int(tok.value)
+        except ValueError:  # longer than Python converts (4300 digits)
+            value = _HUGE
+        return ast.IntLit(value, Span(tok.start, tok.end))
+
+    def name_ref(self, c: list) -> ast.NameRef:
+        name = _name(c[0])
+        return ast.NameRef(name, name.span)
+
+    def paren(self, c: list) -> ast.Paren:
+        return _nested(ast.Paren(c[1], _span(c[0], c[2])), DEPTHS.depth.get(id(c[1]), 0) + 1)

@@ -1,0 +1,49 @@
+"""Helpers for the compiler tests: check a program's text and compile it."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from rdcd_core.compiler import CompiledProgram, compile_model
+from rdcd_core.frontend import CheckResult, check_text
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _check(text: str) -> CheckResult:
+    result = check_text(text)
+    assert not result.has_errors, [(d.code, d.message) for d in result.diagnostics]
+    return result
+
+
+def _compile(text: str, **options: object) -> CompiledProgram:
+    return compile_model(_check(text).model, text=text, **options)  # type: ignore[arg-type]
+
+
+@pytest.fixture
+def check() -> Callable[[str], CheckResult]:
+    return _check
+
+
+@pytest.fixture
+def compile_text() -> Callable[..., CompiledProgram]:
+    return _compile
+
+
+@pytest.fixture(scope="session")
+def obstacle_text() -> str:
+    return (EXAMPLES / "obstacle_avoidance.rdcd").read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="session")
+def obstacle(obstacle_text: str) -> CompiledProgram:
+    return _compile(obstacle_text)
+
+
+@pytest.fixture(scope="session")
+def example_programs() -> dict[str, CompiledProgram]:
+    return {path.name: _compile(path.read_text(encoding="utf-8"))
+            for path in sorted(EXAMPLES.glob("*.rdcd")) if "verbatim" not in path.name}

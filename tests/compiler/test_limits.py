@@ -1,0 +1,89 @@
+"""Target limits of language.md §6, reported at the construct that causes them."""
+
+from __future__ import annotations
+
+from rdcd_core.compiler import target_diagnostics
+from rdcd_core.compiler.limits import role_id_limit
+from rdcd_core.compiler.roletable import build_role_table
+from rdcd_core.frontend import check_text
+
+
+def codes_of(text: str, **options) -> list[str]:
+    result = check_text(text)
+    assert not any(d.severity == 1 and not d.code.startswith("E6") for d in result.diagnostics)
+    return [d.code for d in target_diagnostics(result.model, **options)]
+
+
+def observed_roles_program(concrete: int) -> str:
+    roles = ["abstract role A { }", "abstract role B { }",
+             "role R0 extends A { connected_role(DOWN, A) > 0; }",
+             "role R1 extends A { connected_role(DOWN, B) > 0; }"]
+    roles += [f"role R{i} extends A {{ self.x() > {i}; }}" for i in range(2, concrete)]
+    deployment = ", ".join(f"R{i}" for i in reversed(range(concrete)))
+    return "\n".join(roles) + f"\ndeployment {{ {deployment} }}"
+
+
+def test_observed_abstract_roles_count_as_role_ids():
+    text = observed_roles_program(13)  # 13 concrete + A + B
+    model = check_text(text).model
+    table = build_role_table(model)
+    assert [e.name for e in table.entries[-2:]] == ["A", "B"]
+    diagnostics = role_id_limit(model, table)
+    assert [d.code for d in diagnostics] == ["E602"]
+    assert text[diagnostics[0].span.start:diagnostics[0].span.end] == "B"
+    assert codes_of(observed_roles_program(12)) == []
+
+
+def test_behaviours_share_the_command_table():
+    methods = " ".join(f"command c{i}() {{ self.setLed({i}); }}" for i in range(4))
+    methods += " behavior b1() { self.sleep(); } behavior b2() { self.sleep(); }"
+    text = f"role A {{ self.x() > 0; {methods} }}\ndeployment {{ A }}"
+    diagnostics = target_diagnostics(check_text(text).model)
+    assert [d.code for d in diagnostics] == ["E603"]
+    assert text[diagnostics[0].span.start:diagnostics[0].span.end] == "b2"
+
+
+def test_eleven_stored_programs_is_a_warning():
+    handlers = " ".join(f"self.handleEvent(EVENT_PROXIMITY_{k}, {{ self.setLed(1); }});" for k in range(8))
+    commands = " ".join(f"command c{i}() {{ self.setLed({i}); }}" for i in range(3))
+    text = f"role A {{ self.x() > 0; startup s() {{ {handlers} }} {commands} }}\ndeployment {{ A }}"
+    assert "W602" in codes_of(text)
+
+
+def test_oversized_code_that_cannot_be_split_is_reported():
+    leds = " ".join(f"self.setLed({i});" for i in range(30))
+    text = (f"role A {{ self.x() > 0; startup s() {{ self.handleEvent(EVENT_PROXIMITY_1, {{ {leds} }}); }} }}"
+            "\ndeployment { A }")
+    assert "E601" in codes_of(text)
+    leds = " ".join(f"self.setLed({i});" for i in range(19))
+    text = (f"role A {{ self.x() > 0; startup s() {{ if (connected_role(UP, A) > 0) {{ {leds} }} }} }}"
+            "\ndeployment { A }")
+    diagnostics = target_diagnostics(check_text(text).model)
+    assert [d.code for d in diagnostics] == ["W601"]
+    assert text[diagnostics[0].span.start:].startswith("if (connected_role")
+
+
+def test_large_if_on_a_stable_condition_is_split():
+    leds = " ".join(f"self.setLed({i});" for i in range(40))
+    text = f"role A {{ self.x() > 0; startup s() {{ if (self.y() > 0) {{ {leds} }} }} }}\ndeployment {{ A }}"
+    assert codes_of(text) == []
+
+
+def test_long_startup_is_split_into_fragments_under_budget():
+    leds = " ".join(f"self.setLed({i});" for i in range(40))
+    text = f"role A {{ self.x() > 0; startup s() {{ {leds} }} }}\ndeployment {{ A }}"
+    assert codes_of(text) == []
+
+
+def test_non_constant_argument():
+    text = "role A { self.x() > 0; startup s() { self.setLed(self.y()); } }\ndeployment { A }"
+    assert codes_of(text) == ["E604"]
+
+
+def test_examples_have_no_target_diagnostics(obstacle_text):
+    assert codes_of(obstacle_text) == []
+
+
+def test_mixin_startup_is_reported_as_not_compiled():
+    text = "role W { self.y() > 0; }\nrole M modifies W { startup s() { self.sleep(); } }\ndeployment { W }"
+    assert "W603" in codes_of(text)
