@@ -1,0 +1,283 @@
+// Renders a simulation report as the HTML of the result view. No `vscode` import: unit-tested.
+// The report's exact shape belongs to the simulator; this reads the parts it knows (summary,
+// modules and their roles, fragment sizes) tolerantly and shows everything else as JSON.
+
+export interface ReportView {
+  readonly report: Record<string, unknown>;
+  /** The webview URI of the trajectory plot, if there is one. */
+  readonly plotSrc?: string | undefined;
+  /** The webview's CSP source (webview.cspSource). */
+  readonly cspSource: string;
+  /** The name of the simulated file. */
+  readonly fileName: string;
+  /** The options the simulation ran with. */
+  readonly options?: Readonly<Record<string, unknown>> | undefined;
+}
+
+type Row = Record<string, unknown>;
+
+export function escapeHtml(text: string): string {
+  return text
+    .replace(/&/g, "&amp;")
+    .replace(/</g, "&lt;")
+    .replace(/>/g, "&gt;")
+    .replace(/"/g, "&quot;")
+    .replace(/'/g, "&#39;");
+}
+
+function isRecord(value: unknown): value is Row {
+  return typeof value === "object" && value !== null && !Array.isArray(value);
+}
+
+function isScalar(value: unknown): value is string | number | boolean | null {
+  return value === null || ["string", "number", "boolean"].includes(typeof value);
+}
+
+/** A short human text for any value. */
+export function formatValue(value: unknown): string {
+  if (value === null || value === undefined) {
+    return "—";
+  }
+  if (typeof value === "number") {
+    return Number.isInteger(value) ? String(value) : String(Math.round(value * 1000) / 1000);
+  }
+  if (typeof value === "string") {
+    return value;
+  }
+  if (typeof value === "boolean") {
+    return value ? "yes" : "no";
+  }
+  if (Array.isArray(value) && value.every((item) => isScalar(item))) {
+    return value.map((item) => formatValue(item)).join(", ");
+  }
+  return JSON.stringify(value);
+}
+
+function humanize(key: string): string {
+  const spaced = key.replace(/_/g, " ").replace(/([a-z])([A-Z])/g, "$1 $2");
+  return spaced.charAt(0).toUpperCase() + spaced.slice(1);
+}
+
+function pick(row: Row, keys: readonly string[]): unknown {
+  for (const key of keys) {
+    if (key in row) {
+      return row[key];
+    }
+  }
+  return undefined;
+}
+
+const MODULE_KEYS = ["modules", "roles_per_module", "module_roles", "final_roles"];
+const FRAGMENT_KEYS = ["fragments", "fragment_sizes", "fragmentSizes"];
+const SUMMARY_KEYS = ["summary"];
+const HIDDEN_KEYS = ["plot", "plotPath", "plot_path"];
+
+/** The summary entries: the `summary` object, or else the report's own scalar fields. */
+export function summaryEntries(report: Row): [string, string][] {
+  const entries: [string, string][] = [];
+  const summary = report["summary"];
+  if (isRecord(summary)) {
+    for (const [key, value] of Object.entries(summary)) {
+      entries.push([humanize(key), formatValue(value)]);
+    }
+  } else if (typeof summary === "string") {
+    entries.push(["Summary", summary]);
+  }
+  for (const [key, value] of Object.entries(report)) {
+    if (SUMMARY_KEYS.includes(key) || HIDDEN_KEYS.includes(key)) {
+      continue;
+    }
+    if (isScalar(value) || (Array.isArray(value) && value.length <= 8 && value.every((item) => isScalar(item)))) {
+      entries.push([humanize(key), formatValue(value)]);
+    } else if (isRecord(value) && Object.keys(value).length <= 6 && Object.values(value).every((item) => isScalar(item))) {
+      entries.push([humanize(key), Object.entries(value).map(([name, item]) => `${name} ${formatValue(item)}`).join(", ")]);
+    }
+  }
+  return entries;
+}
+
+/** `name: value` pairs for the cells that have no column of their own; long lists only counted. */
+function detailText(row: Row, used: ReadonlySet<string>): string {
+  return Object.entries(row)
+    .filter(([name, value]) => !used.has(name) && !(Array.isArray(value) && value.length === 0))
+    .map(([name, value]) => {
+      if (Array.isArray(value) && (value.length > 4 || !value.every((item) => isScalar(item)))) {
+        return `${name}: ${value.length} ${value.length === 1 ? "entry" : "entries"}`;
+      }
+      return `${name}: ${formatValue(value)}`;
+    })
+    .join("; ");
+}
+
+function rowsOf(value: unknown, keyName: string, valueName: string): Row[] {
+  if (Array.isArray(value)) {
+    return (value as unknown[]).map((item) => (isRecord(item) ? item : { [valueName]: item }));
+  }
+  if (isRecord(value)) {
+    return Object.entries(value).map(([key, item]) =>
+      isRecord(item) ? { [keyName]: key, ...item } : { [keyName]: key, [valueName]: item },
+    );
+  }
+  return [];
+}
+
+export interface ModuleRow {
+  readonly module: string;
+  readonly role: string;
+  readonly details: string;
+}
+
+/** One row per module: its name or id, its role(s), and the rest of what the report says. */
+export function moduleRows(report: Row): ModuleRow[] {
+  const key = MODULE_KEYS.find((candidate) => candidate in report);
+  if (key === undefined) {
+    return [];
+  }
+  return rowsOf(report[key], "module", "role").map((row) => {
+    const module = pick(row, ["module", "name", "id", "module_id", "index"]);
+    const role = pick(row, ["role", "final_role", "roles"]);
+    const used = new Set(["module", "name", "id", "module_id", "index", "role", "final_role", "roles"]);
+    const details = detailText(row, used);
+    return { module: formatValue(module), role: role === null || role === undefined ? "(none)" : formatValue(role), details };
+  });
+}
+
+export interface FragmentRow {
+  readonly fragment: string;
+  readonly size: string;
+  readonly details: string;
+}
+
+/** One row per compiled fragment with its size in bytes. */
+export function fragmentRows(report: Row): FragmentRow[] {
+  let source: unknown;
+  const key = FRAGMENT_KEYS.find((candidate) => candidate in report);
+  if (key !== undefined) {
+    source = report[key];
+  } else if (isRecord(report["compile"])) {
+    const compile = report["compile"];
+    const inner = FRAGMENT_KEYS.find((candidate) => candidate in compile);
+    source = inner === undefined ? undefined : compile[inner];
+  }
+  return rowsOf(source, "fragment", "size").map((row) => {
+    const names = ["role", "method", "kind", "name", "fragment", "label"]
+      .map((name) => row[name])
+      .filter((value) => value !== undefined && value !== null && value !== "")
+      .map((value) => formatValue(value));
+    const size = pick(row, ["size", "bytes", "program_bytes", "packet_bytes", "length"]);
+    const used = new Set(["role", "method", "kind", "name", "fragment", "label", "size", "bytes", "program_bytes", "packet_bytes", "length"]);
+    const details = detailText(row, used);
+    return { fragment: names.length > 0 ? names.join(" · ") : "?", size: formatValue(size), details };
+  });
+}
+
+function table(headers: readonly string[], rows: readonly (readonly string[])[], cls: string): string {
+  const head = headers.map((header) => `<th>${escapeHtml(header)}</th>`).join("");
+  const body = rows
+    .map((row) => `<tr>${row.map((cell) => `<td>${escapeHtml(cell)}</td>`).join("")}</tr>`)
+    .join("\n");
+  return `<table class="${cls}"><thead><tr>${head}</tr></thead><tbody>\n${body}\n</tbody></table>`;
+}
+
+/** The report with every list longer than `limit` cut down to its first entries and a count. */
+export function shorten(value: unknown, limit = 20): unknown {
+  if (Array.isArray(value)) {
+    const items = (value as unknown[]).slice(0, limit).map((item) => shorten(item, limit));
+    return value.length > limit ? [...items, `… ${value.length - limit} more`] : items;
+  }
+  if (isRecord(value)) {
+    return Object.fromEntries(Object.entries(value).map(([key, item]) => [key, shorten(item, limit)]));
+  }
+  return value;
+}
+
+/** The whole HTML page of the result view (no scripts; images only from the webview source). */
+export function renderReportHtml(view: ReportView): string {
+  const { report } = view;
+  const csp = [
+    "default-src 'none'",
+    `img-src ${view.cspSource} data:`,
+    `style-src ${view.cspSource} 'unsafe-inline'`,
+  ].join("; ");
+  const sections: string[] = [];
+
+  sections.push(
+    `<section id="plot"><h2>Trajectory</h2>${
+      view.plotSrc !== undefined
+        ? `<img id="trajectory" src="${escapeHtml(view.plotSrc)}" alt="Trajectory plot of the simulated robot">`
+        : "<p>The simulation produced no plot.</p>"
+    }</section>`,
+  );
+
+  const summary = summaryEntries(report);
+  const options = view.options ? Object.entries(view.options).map(([key, value]): [string, string] => [humanize(key), formatValue(value)]) : [];
+  sections.push(
+    `<section id="summary"><h2>Summary</h2>${
+      summary.length > 0 ? table(["", ""], summary, "summary") : "<p>The report has no summary.</p>"
+    }${options.length > 0 && summary.length === 0 ? `<h3>Run options</h3>${table(["", ""], options, "options")}` : ""}</section>`,
+  );
+
+  const modules = moduleRows(report);
+  sections.push(
+    `<section id="roles"><h2>Roles per module</h2>${
+      modules.length > 0
+        ? table(["Module", "Role", "Details"], modules.map((row) => [row.module, row.role, row.details]), "roles")
+        : "<p>The report lists no modules.</p>"
+    }</section>`,
+  );
+
+  const fragments = fragmentRows(report);
+  sections.push(
+    `<section id="fragments"><h2>Fragment sizes</h2>${
+      fragments.length > 0
+        ? table(["Fragment", "Bytes", "Details"], fragments.map((row) => [row.fragment, row.size, row.details]), "fragments")
+        : "<p>The report lists no fragments.</p>"
+    }</section>`,
+  );
+
+  sections.push(
+    `<section id="raw"><details><summary>Full report (JSON, long lists shortened)</summary><pre>${escapeHtml(
+      JSON.stringify(shorten(report), null, 2),
+    )}</pre></details></section>`,
+  );
+
+  return `<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="UTF-8">
+<meta http-equiv="Content-Security-Policy" content="${csp}">
+<meta name="viewport" content="width=device-width, initial-scale=1.0">
+<title>RDCD simulation: ${escapeHtml(view.fileName)}</title>
+<style>
+body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 1em 2em; }
+h1 { font-size: 1.4em; } h2 { font-size: 1.15em; margin-top: 1.4em; } h3 { font-size: 1em; }
+table { border-collapse: collapse; margin: 0.4em 0; }
+th, td { text-align: left; padding: 0.2em 0.8em 0.2em 0; border-bottom: 1px solid var(--vscode-panel-border, #8884); vertical-align: top; }
+table.summary thead, table.options thead { display: none; }
+img#trajectory { max-width: 100%; background: white; border: 1px solid var(--vscode-panel-border, #8884); }
+pre { white-space: pre-wrap; font-family: var(--vscode-editor-font-family); font-size: 0.9em; }
+</style>
+</head>
+<body>
+<h1>RDCD simulation: ${escapeHtml(view.fileName)}</h1>
+${sections.join("\n")}
+</body>
+</html>
+`;
+}
+
+/** The page shown when the simulation failed. */
+export function renderErrorHtml(fileName: string, message: string, cspSource: string): string {
+  return `<!DOCTYPE html>
+<html lang="en"><head><meta charset="UTF-8">
+<meta http-equiv="Content-Security-Policy" content="default-src 'none'; style-src ${cspSource} 'unsafe-inline'">
+<title>RDCD simulation: ${escapeHtml(fileName)}</title>
+<style>
+body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 1em 2em; }
+h1 { font-size: 1.4em; }
+pre { white-space: pre-wrap; font-family: var(--vscode-editor-font-family); color: var(--vscode-errorForeground); }
+</style></head>
+<body><h1>RDCD simulation: ${escapeHtml(fileName)}</h1>
+<p class="error">The simulation failed:</p><pre>${escapeHtml(message)}</pre></body></html>
+`;
+}
