@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast, parse
 
@@ -39,8 +41,28 @@ def errors(text: str) -> list[tuple[str, int, str]]:
     return [(d.code, lines.line_col(d.span.start).line + 1, d.message) for d in parse(text).diagnostics]
 
 
+_AST_TYPES = tuple(t for t in vars(ast).values()
+                   if isinstance(t, type) and hasattr(t, "__dataclass_fields__"))
+
+
+def check_types(program: ast.Program) -> None:
+    """The tree holds only AST nodes and plain values (no parser tokens, lists or Lark trees)."""
+    stack: list = [program]
+    while stack:
+        node = stack.pop()
+        assert isinstance(node, _AST_TYPES), node
+        for f in fields(node):
+            value = getattr(node, f.name)
+            items = value if isinstance(value, tuple) else (value,)
+            for item in items:
+                if isinstance(item, Span) or item is None or isinstance(item, (str, int, bool)):
+                    continue
+                stack.append(item)
+
+
 def check_spans(text: str, program: ast.Program) -> None:
     """Every span lies in the text and inside its parent's span."""
+    check_types(program)
     stack = [(program, program.span)]
     while stack:
         node, parent = stack.pop()

@@ -45,3 +45,9 @@ def test_unterminated_comment_runs_to_the_end() -> None:
     assert [d.code for d in result.diagnostics] == ["E002"]
     assert result.program.comments[-1].text == text[11:]
     assert result.program.deployment is None
+
+
+def test_crlf_line_ends_and_byte_order_mark() -> None:
+    result = parse("\ufeffrole A { // note\r\n  x;\r\n}\r\ndeployment { A }\r\n")
+    assert result.diagnostics == []
+    assert [c.text for c in result.program.comments] == ["// note"]
