@@ -1,0 +1,59 @@
+"""One module's ``vm.hal.ModuleHal`` in the physics world."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from sim.joint import PhysicsJoint
+
+if TYPE_CHECKING:
+    from sim.world import PhysicsWorld
+
+
+class PhysicsHal:
+    def __init__(self, world: PhysicsWorld, module_id: int, joint: PhysicsJoint | None) -> None:
+        self.world = world
+        self.module_id = module_id
+        self.joint = joint
+        self.led = 0
+        self._connected = world.structure.connected_channels(module_id)
+
+    def now(self) -> float:
+        return self.world.time
+
+    def connected_channels(self) -> frozenset[int]:
+        return self._connected
+
+    def send(self, physical_channel: int, packet: bytes) -> None:
+        self.world.network.send(self.world.time, self.module_id, physical_channel, packet)
+
+    def proximity(self, sensor: int) -> bool:
+        return self.world.sensors.value(self.module_id, sensor)
+
+    def joint_angle_deg(self) -> float:
+        return self.joint.angle_deg() if self.joint else 0.0
+
+    def joint_turns(self) -> float:
+        return self.joint.turns if self.joint else 0.0
+
+    def is_turning(self) -> bool:
+        return self.joint.is_turning() if self.joint else False
+
+    def rotate_continuously(self, speed: int) -> None:
+        if self.joint:
+            self.joint.rotate_continuously(speed)
+
+    def rotate_to(self, angle_deg: float) -> None:
+        if self.joint:
+            self.joint.rotate_to(angle_deg)
+
+    def rotate_by(self, delta_deg: float) -> None:
+        if self.joint:
+            self.joint.rotate_by(delta_deg)
+
+    def stop_joint(self) -> None:
+        if self.joint:
+            self.joint.stop()
+
+    def set_led(self, value: int) -> None:
+        self.led = value

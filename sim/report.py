@@ -1,0 +1,99 @@
+"""The simulation report (JSON) and its one-screen text summary."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from typing import TYPE_CHECKING, Any
+
+from rdcd_core.compiler.program import CompiledProgram
+from vm.lattice.structure import AXIS_NAMES, Structure
+from vm.roles import NO_ROLE, RoleTable
+
+if TYPE_CHECKING:
+    from sim.run import Options, RunResult
+
+
+def role_name(roles: RoleTable, role: int) -> str | None:
+    return None if role == NO_ROLE else roles.name(role)
+
+
+def build_report(program: CompiledProgram, structure: Structure, roles: RoleTable, options: Options,
+                 run: RunResult, wall_s: float) -> dict[str, Any]:
+    modules = []
+    for mid in sorted(structure.modules):
+        spec, rt = structure.modules[mid], run.runtimes[mid]
+        modules.append({
+            "id": mid,
+            "lattice": list(spec.position),
+            "orientation": AXIS_NAMES[spec.axis],
+            "final_role": role_name(roles, rt.role),
+            "role_history": [[round(t, 3), role_name(roles, r)] for t, r in rt.role_history],
+            "errors": [{"t": round(t, 3), "message": m} for t, m in rt.errors],
+        })
+    tracking = run.tracking
+    detections = sum(1 for e in run.events if e["kind"] == "handler")
+    report: dict[str, Any] = {
+        "world": options.world,
+        "config": structure.name or options.config,
+        "obstacle": options.obstacle,
+        "duration_s": options.duration,
+        "seed": options.seed,
+        "packet_loss": options.packet_loss,
+        "wall_time_s": round(wall_s, 3),
+        "real_time_factor": round(options.duration / wall_s, 2) if wall_s > 0 else None,
+        "modules": modules,
+        "fragments": [{"name": f.name, "size": f.size} for f in program.fragments],
+        "messages": {k: run.counters.get(k, 0) for k in ("sent", "delivered", "dropped")},
+        "events": run.events,
+        "trajectory": tracking.trajectory if tracking else [],
+        "obstacles": [{"kind": b.kind, "x": b.x, "y": b.y, "w": b.w, "l": b.l} for b in run.boxes],
+        "obstacle_detections": detections,
+        "min_obstacle_distance_m": (round(tracking.min_distance, 4)
+                                    if tracking and tracking.min_distance is not None else None),
+        "collided": tracking.collided if tracking else None,
+        "module_start_xy": {str(k): [round(v, 4) for v in xy] for k, xy in run.start_positions.items()},
+    }
+    return report
+
+
+def heading_change(trajectory: list[list[float]]) -> float | None:
+    """Final heading minus initial heading, in -180..180 degrees."""
+    if len(trajectory) < 2:
+        return None
+    return (trajectory[-1][3] - trajectory[0][3] + 180.0) % 360.0 - 180.0
+
+
+def distance(trajectory: list[list[float]]) -> float | None:
+    """Path length of the robot centre in metres."""
+    if len(trajectory) < 2:
+        return None
+    return sum(math.dist(a[1:3], b[1:3]) for a, b in zip(trajectory, trajectory[1:], strict=False))
+
+
+def summary(report: dict[str, Any]) -> str:
+    roles = Counter(m["final_role"] or "none" for m in report["modules"])
+    sizes = ", ".join(f"{f['name']} {f['size']}" for f in report["fragments"])
+    total = sum(f["size"] for f in report["fragments"])
+    lines = [
+        f"{report['config']} in the {report['world']} world, obstacle {report['obstacle']}, "
+        f"{report['duration_s']:g} s, seed {report['seed']}",
+        "roles: " + ", ".join(f"{n} × {name}" for name, n in sorted(roles.items())),
+        f"fragments: {len(report['fragments'])}, {total} bytes ({sizes})",
+        f"messages: {report['messages']['sent']} sent, {report['messages']['delivered']} delivered, "
+        f"{report['messages']['dropped']} dropped",
+        f"obstacle detections: {report['obstacle_detections']}",
+    ]
+    traj = report["trajectory"]
+    if traj:
+        (x0, y0), (x1, y1) = traj[0][1:3], traj[-1][1:3]
+        lines.append(f"distance: {distance(traj):.2f} m travelled, net ({x1 - x0:+.2f}, {y1 - y0:+.2f}) m; "
+                     f"heading change {heading_change(traj):+.1f}°")
+        if report["min_obstacle_distance_m"] is not None:
+            lines.append(f"closest to an obstacle: {report['min_obstacle_distance_m']:.3f} m; "
+                         f"collided: {'yes' if report['collided'] else 'no'}")
+    errors = sum(len(m["errors"]) for m in report["modules"])
+    if errors:
+        lines.append(f"runtime errors: {errors} (see the report)")
+    lines.append(f"real-time factor: {report['real_time_factor']}× ({report['wall_time_s']:.1f} s wall)")
+    return "\n".join(lines)

@@ -1,0 +1,272 @@
+"""Build a whole ATRON structure as ONE PyBullet multibody with few links.
+
+Hemispheres joined by connections are rigidly attached, so each set of hemispheres glued
+together by connections (a *rigid group*) is one link with a compound collision shape; the
+modules' motorised revolute joints join the groups. The groups are walked as a spanning tree from
+the entry module; a joint that would close a loop of groups becomes a pair of point-to-point
+constraints along its axis (a free hinge, not motorised). A module whose two hemispheres lie in
+one group is locked. The base is a tiny massless-ish anchor fixed to the entry's group, so every
+group is a link whose frame PyBullet reports directly. Link frames are aligned with the lattice
+frame at start, so a link's world orientation is the rotation it made since the start.
+
+Joint angle convention (shared with ``sim.joint``): positive = the physical south hemisphere
+(connectors 4-7) turns clockwise seen from the north pole, i.e. about the vector from the centre
+to the south pole. A PyBullet revolute joint whose axis points to its child hemisphere's pole
+measures exactly this angle, whichever hemisphere is the child.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import pybullet as pb
+
+from sim import geometry as g
+from sim import params
+from sim import shapes as sh
+from vm import navigation
+from vm.lattice.structure import Structure
+
+Node = tuple[int, int]  # (module id, virtual side PLUS/MINUS)
+MAX_LINKS = 127  # PyBullet's limit per multibody
+
+
+class RobotError(ValueError):
+    """A structure PyBullet cannot build (one line)."""
+
+
+@dataclass
+class ModuleBody:
+    id: int
+    centre0: g.Vec3  # world position of the centre at start
+    links: dict[int, int] = field(default_factory=dict)  # virtual side -> link index
+    offsets: dict[int, g.Vec3] = field(default_factory=dict)  # side -> centre minus link origin, at start
+    joint: int | None = None  # link index of this module's revolute joint, None if not motorised
+    wheel_side: int = 0  # virtual side of the rubber-ringed free hemisphere, 0 = not a wheel
+
+
+@dataclass
+class Robot:
+    body: int
+    modules: dict[int, ModuleBody]
+    constraints: list[int]
+    lift: float
+    link_count: int
+    shell_visual: dict[int, tuple[int, int]]  # module -> (link, visual shape index) of its sphere
+
+
+def wheel_side(structure: Structure, module_id: int) -> int:
+    """Virtual side of the free hemisphere of a wheel-like module, or 0.
+
+    A wheel is a module with a horizontal axis whose other hemisphere carries all connections.
+    """
+    spec = structure.modules[module_id]
+    if spec.axis == navigation.UP_DOWN:
+        return 0
+    sides = {g.physical_side(spec, p) for p in structure.neighbours(module_id)}
+    if len(sides) != 1:
+        return 0
+    return -sides.pop()
+
+
+def rigid_groups(structure: Structure) -> dict[Node, int]:
+    """Group number of every hemisphere; connections glue hemispheres into one group."""
+    parent: dict[Node, Node] = {}
+
+    def find(n: Node) -> Node:
+        while parent.setdefault(n, n) != n:
+            parent[n] = parent[parent[n]]
+            n = parent[n]
+        return n
+
+    for mid in sorted(structure.modules):
+        find((mid, g.PLUS))
+        find((mid, g.MINUS))
+    for link in structure.links():
+        a = find((link.a, g.physical_side(structure.modules[link.a], link.a_physical)))
+        b = find((link.b, g.physical_side(structure.modules[link.b], link.b_physical)))
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+    numbers: dict[Node, int] = {}
+    out = {}
+    for node in sorted(parent):
+        out[node] = numbers.setdefault(find(node), len(numbers))
+    return out
+
+
+@dataclass
+class _Plan:
+    order: list[int]  # groups in depth-first order, root first
+    parent_joint: dict[int, tuple[int, int]]  # group -> (parent group, module whose joint joins them)
+    locked: list[int]  # modules whose joint cannot turn: both hemispheres end up in one group
+
+
+def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
+    """Spanning tree of rigid groups joined by module joints.
+
+    A joint that would close a loop of groups is locked (its two groups merge), and the tree is
+    built again: a loop of joints can only turn in special cases, and loop-closing constraints
+    cost PyBullet far more than the whole tree.
+    """
+    merged = {grp: grp for grp in set(groups.values())}
+
+    def find(grp: int) -> int:
+        while merged[grp] != grp:
+            grp = merged[grp]
+        return grp
+
+    while True:
+        parent_joint, closing = _spanning_tree(structure, groups, find)
+        if not closing:
+            break
+        for mid in closing:
+            a, b = find(groups[(mid, g.PLUS)]), find(groups[(mid, g.MINUS)])
+            if a != b:
+                merged[max(a, b)] = min(a, b)
+    for node in groups:  # callers see the merged groups
+        groups[node] = find(groups[node])
+    locked = [mid for mid in sorted(structure.modules)
+              if groups[(mid, g.PLUS)] == groups[(mid, g.MINUS)]]
+    root = groups[(structure.entry, g.PLUS)]
+    children: dict[int, list[int]] = {}
+    for child, (par, _) in sorted(parent_joint.items()):
+        children.setdefault(par, []).append(child)
+    order, stack = [], [root]
+    while stack:  # PyBullet renumbers links depth-first, so give them so
+        grp = stack.pop()
+        order.append(grp)
+        stack.extend(reversed(children.get(grp, [])))
+    return _Plan(order, parent_joint, locked)
+
+
+def _spanning_tree(structure: Structure, groups: dict[Node, int],
+                   find: Callable[[int], int]) -> tuple[dict[int, tuple[int, int]], list[int]]:
+    """(group -> (parent group, joining module)), and the modules whose joint closes a loop."""
+    edges: dict[int, list[tuple[int, int]]] = {}
+    for mid in sorted(structure.modules):
+        a, b = find(groups[(mid, g.PLUS)]), find(groups[(mid, g.MINUS)])
+        if a != b:
+            edges.setdefault(a, []).append((b, mid))
+            edges.setdefault(b, []).append((a, mid))
+    root = find(groups[(structure.entry, g.PLUS)])
+    parent_joint: dict[int, tuple[int, int]] = {}
+    seen, used = {root}, set()
+    queue = deque([root])
+    while queue:
+        grp = queue.popleft()
+        for other, mid in sorted(edges.get(grp, [])):
+            if other not in seen:
+                seen.add(other)
+                used.add(mid)
+                parent_joint[other] = (grp, mid)
+                queue.append(other)
+    closing = sorted({mid for lst in edges.values() for _, mid in lst} - used)
+    return parent_joint, closing
+
+
+def _lift(structure: Structure) -> float:
+    lowest = math.inf
+    for mid, spec in structure.modules.items():
+        z = g.lattice_to_world(spec.position)[2]
+        r = params.RING_RADIUS if wheel_side(structure, mid) else params.MODULE_RADIUS
+        lowest = min(lowest, z - r)
+    return -lowest + params.SPAWN_CLEARANCE
+
+
+def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> Robot:
+    """Create the structure's multibody in ``client``; the entry module's centre at x = y = 0."""
+    groups = rigid_groups(structure)
+    plan = _plan(structure, groups)
+    if len(plan.order) + 1 > MAX_LINKS:
+        raise RobotError(f"{structure.name or 'structure'}: {len(plan.order)} rigid parts exceed "
+                         f"PyBullet's {MAX_LINKS} links per body")
+    lift = _lift(structure)
+    modules = {mid: ModuleBody(mid, g.add(g.lattice_to_world(s.position), (0.0, 0.0, lift)),
+                               wheel_side=wheel_side(structure, mid))
+               for mid, s in structure.modules.items()}
+    members: dict[int, list[Node]] = {}
+    for node, grp in sorted(groups.items()):
+        members.setdefault(grp, []).append(node)
+    origin = {plan.order[0]: modules[structure.entry].centre0}
+    for grp, (_, mid) in plan.parent_joint.items():
+        origin[grp] = modules[mid].centre0
+    link_of = {grp: i for i, grp in enumerate(plan.order)}
+    cols, vis, pos, inert_pos, inert_orn, masses, inertias, parents, types, axes, rings = (
+        [] for _ in range(11))
+    shell_visual: dict[int, tuple[int, int]] = {}
+    ring_modules: dict[int, int] = {}
+    for i, grp in enumerate(plan.order):
+        parts = [_part(structure, modules, node, origin[grp]) for node in members[grp]]
+        shown = 0
+        for (mid, side), part in zip(members[grp], parts, strict=True):
+            modules[mid].links[side] = i
+            modules[mid].offsets[side] = g.sub(modules[mid].centre0, origin[grp])
+            if part.kind == "shell":
+                shell_visual[mid] = (i, shown)
+            shown += part.kind != "none"
+        rings.append(any(p.kind == "ring" for p in parts))
+        ring_modules[i] = members[grp][0][0]
+        cols.append(sh.compound_collision(parts, client))
+        vis.append(sh.compound_visual(parts, client) if visuals else -1)
+        mass, com, diag, orn = sh.mass_properties(parts)
+        masses.append(mass)
+        inert_pos.append(com)
+        inert_orn.append(orn)
+        inertias.append(diag)
+        if i == 0:
+            parents.append(0)
+            types.append(pb.JOINT_FIXED)
+            axes.append((0.0, 0.0, 1.0))
+            pos.append((0.0, 0.0, 0.0))
+            continue
+        par, mid = plan.parent_joint[grp]
+        child_side = next(side for (m, side) in members[grp] if m == mid)
+        parents.append(link_of[par] + 1)
+        types.append(pb.JOINT_REVOLUTE)
+        axes.append(g.hemisphere_pole(structure.modules[mid].axis, child_side))
+        pos.append(g.sub(origin[grp], origin[par]))
+        modules[mid].joint = i
+    n = len(plan.order)
+    body = pb.createMultiBody(
+        baseMass=0.001, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1,
+        basePosition=origin[plan.order[0]],
+        linkMasses=masses, linkCollisionShapeIndices=cols, linkVisualShapeIndices=vis,
+        linkPositions=pos, linkOrientations=[(0, 0, 0, 1)] * n, linkInertialFramePositions=inert_pos,
+        linkInertialFrameOrientations=inert_orn, linkParentIndices=parents,
+        linkJointTypes=types, linkJointAxis=axes, physicsClientId=client)
+    if body < 0 or pb.getNumJoints(body, physicsClientId=client) != n:
+        raise RobotError(f"{structure.name or 'structure'}: PyBullet could not build the body")
+    robot = Robot(body, modules, [], lift, n, shell_visual)
+    pb.changeDynamics(body, -1, localInertiaDiagonal=(1e-6, 1e-6, 1e-6), physicsClientId=client)
+    for i, (diag, ring) in enumerate(zip(inertias, rings, strict=True)):
+        if ring and params.RING_AXIAL_FRICTION_SCALE != 1.0:
+            axis = g.AXIS_VECTORS[structure.modules[ring_modules[i]].axis]
+            scale = tuple(params.RING_AXIAL_FRICTION_SCALE if a else 1.0 for a in axis)
+            pb.changeDynamics(body, i, anisotropicFriction=scale, physicsClientId=client)
+        pb.changeDynamics(body, i, localInertiaDiagonal=diag, restitution=params.RESTITUTION,
+                          lateralFriction=params.RING_FRICTION if ring else params.SHELL_FRICTION,
+                          rollingFriction=params.RING_ROLLING_FRICTION if ring else 0.0,
+                          spinningFriction=params.RING_SPINNING_FRICTION if ring else 0.0,
+                          linearDamping=0.0, angularDamping=0.0, jointDamping=params.JOINT_DAMPING,
+                          physicsClientId=client)
+    for mb in modules.values():
+        if mb.joint is not None:
+            pb.setJointMotorControl2(body, mb.joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
+                                     force=params.JOINT_MAX_TORQUE, physicsClientId=client)
+    return robot
+
+
+def _part(structure: Structure, modules: dict[int, ModuleBody], node: Node, origin: g.Vec3) -> sh.Part:
+    mid, side = node
+    mb, axis = modules[mid], structure.modules[mid].axis
+    centre = g.sub(mb.centre0, origin)
+    if mb.wheel_side == side:
+        kind = "ring"
+    elif side == (-mb.wheel_side if mb.wheel_side else g.PLUS):
+        kind = "shell"  # one sphere per module: it is symmetric about the joint axis
+    else:
+        kind = "none"
+    return sh.Part(centre, axis, side, kind)
