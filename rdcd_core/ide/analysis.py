@@ -23,6 +23,7 @@ class Analysis:
     _refs: list[Reference] = field(default_factory=list)
     _compiled: Any = None
     _compile_tried: bool = False
+    cache: dict[str, Any] = field(default_factory=dict)  # derived data of this text, per feature
 
     @property
     def line_index(self) -> LineIndex:

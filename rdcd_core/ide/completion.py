@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from rdcd_core.ide.context import (
@@ -60,7 +61,29 @@ def _items(context: CursorContext, model: Model | None) -> list[CompletionItem]:
         return [CompletionItem(k, "keyword") for k in TOP_KEYWORDS]
     if _at_statement_start(context.before):
         return statement_items(context, model)
-    return expression_items(context, model, None)
+    return expression_items(context, model, compared_type(context, model))
+
+
+COMPARED = re.compile(r"(self\s*\.\s*)?([A-Za-z_]\w*)\s*(\(\s*\))?\s*(==|!=)\s*\Z")
+
+
+def compared_type(context: CursorContext, model: Model | None) -> Type | None:
+    """After ``left ==`` or ``left !=``: the type of ``left`` when it is a name or a query."""
+    match = COMPARED.search(context.before[-200:])
+    if match is None:
+        return None
+    name = match.group(2)
+    if match.group(1):
+        primitive = lookup_self(name)
+        return primitive.result if primitive is not None else None
+    if name in PREDEFINED_VALUES:
+        return PREDEFINED_VALUES[name].type
+    for role in _visible_roles(context, model):
+        assert model is not None
+        constant = model.roles[role].constants.get(name)
+        if constant is not None and constant.value is not None:
+            return constant.value.type
+    return None
 
 
 def _at_statement_start(before: str) -> bool:

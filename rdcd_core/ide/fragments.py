@@ -32,6 +32,13 @@ def program_budget(compiled: Any) -> int:
 
 
 def fragment_sizes(analysis: Analysis) -> list[FragmentSize]:
+    cached = analysis.cache.get("fragment_sizes")
+    if cached is None:
+        cached = analysis.cache["fragment_sizes"] = _fragment_sizes(analysis)
+    return cached
+
+
+def _fragment_sizes(analysis: Analysis) -> list[FragmentSize]:
     compiled = analysis.compiled()
     if compiled is None:
         return []

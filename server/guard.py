@@ -1,0 +1,35 @@
+"""Handlers never take the server down: an exception is logged and the request gets an empty result."""
+
+from __future__ import annotations
+
+import functools
+import logging
+from collections.abc import Callable
+from typing import Any
+
+from pygls.exceptions import JsonRpcException
+
+log = logging.getLogger("rdcd.server")
+
+
+class RequestFailed(JsonRpcException):
+    """LSP's RequestFailed: the request was valid but cannot be carried out (e.g. a refused rename)."""
+
+    CODE = -32803
+
+
+def guarded(default: Any = None) -> Callable:
+    def decorate(handler: Callable) -> Callable:
+        @functools.wraps(handler)
+        def wrapper(ls: Any, params: Any) -> Any:
+            try:
+                return handler(ls, params)
+            except JsonRpcException:
+                raise
+            except Exception:
+                log.exception("%s failed", handler.__name__)
+                return default() if callable(default) else default
+
+        return wrapper
+
+    return decorate
