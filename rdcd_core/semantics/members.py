@@ -152,20 +152,32 @@ def _check_missing(ctx: Context, symbol: RoleSymbol) -> None:
     if not symbol.is_mixin:
         fixes.append(diag.Fix(f"declare '{symbol.name}' abstract",
                               (diag.TextEdit(Span(decl.span.start, decl.span.start), "abstract "),)))
+    # Definitions can only be added for members inherited abstract: one this role declares
+    # abstract itself would then be declared twice.
+    inherited_constants = [c for c in missing_constants if c.owner != symbol.name]
+    inherited_methods = [m for m in missing_methods if m.owner != symbol.name]
     lines = "".join(f"  constant {c.name} := {_SAMPLE.get(str(c.type), '0')};\n"
-                    for c in missing_constants)
-    lines += "".join(f"  {_kind_prefix(m)}{m.name}() {{ }}\n" for m in missing_methods)
+                    for c in inherited_constants)
+    lines += "".join(f"  {_kind_prefix(m)}{m.name}() {{ }}\n" for m in inherited_methods)
     closing = max(decl.span.start, decl.span.end - 1)
-    title = "add the missing constant definitions" if not missing_methods else \
+    title = "add the missing constant definitions" if not inherited_methods else \
         "add the missing definitions"
-    fixes.append(diag.Fix(title, (diag.TextEdit(Span(closing, closing), lines),)))
+    if lines:
+        fixes.append(diag.Fix(title, (diag.TextEdit(Span(closing, closing), lines),)))
     what = "mixin" if symbol.is_mixin else "role"
     them = "them" if len(names) > 1 else "it"
     todo = f"define {them} (a mixin cannot be abstract)" if symbol.is_mixin else \
         f"define {them} or declare the role abstract"
     ctx.report(codes.MISSING_DEFINITIONS, decl.name.span,
-               f"{what} '{symbol.name}' does not define {', '.join(names)}; {todo}",
+               f"{what} '{symbol.name}' does not define {_listed(names)}; {todo}",
                related=related, fixes=fixes)
+
+
+def _listed(names: list[str], limit: int = 10) -> str:
+    """The names, the first ``limit`` of a long list only: a message stays one readable line."""
+    if len(names) <= limit:
+        return ", ".join(names)
+    return f"{', '.join(names[:limit])} and {len(names) - limit} more"
 
 
 def _kind_prefix(method: MethodSymbol) -> str:
