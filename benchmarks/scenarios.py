@@ -34,9 +34,8 @@ def run_case(case: tuple[str, str, float, int, float]) -> dict:
 
     import_pybullet()
     from sim.config import load_config
-    from sim.report import heading_change
     from sim.run import Options, simulate
-    from sim.scenario import forward_at_end, judge_obstacle, judge_straight
+    from sim.scenario import forward_at_end, judge_obstacle, judge_straight, reverse_spans, turn_deg
 
     config, obstacle, duration, seed, loss = case
     structure = load_config(config)
@@ -46,7 +45,11 @@ def run_case(case: tuple[str, str, float, int, float]) -> dict:
     first = next((e["t"] for e in report["events"] if e["kind"] == "handler"), None)
     end = "reversing" if any((m["final_role"] or "").startswith("Reverse") for m in report["modules"]) \
         else "forward" if forward_at_end(report) else "other"
-    return {"case": case, "checks": checks, "turn": heading_change(report["trajectory"]), "end": end,
+    traj = report["trajectory"]
+    turn = turn_deg(report) if obstacle != "none" else \
+        max((abs((p[3] - traj[0][3] + 180) % 360 - 180) for p in traj), default=0.0)
+    spans = " ".join(f"{a:.0f}-{'end' if b is None else f'{b:.0f}'}" for a, b in reverse_spans(report))
+    return {"case": case, "checks": checks, "turn": turn, "end": end, "spans": spans or "-",
             "detect_t": first, "min_d": report["min_obstacle_distance_m"], "rtf": report["real_time_factor"],
             "dropped": report["messages"]["dropped"]}
 
@@ -67,7 +70,7 @@ def main() -> int:
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
         results = list(pool.map(run_case, cases))
     print(f"{'config':<12} {'obstacle':<9} {'seed':>4} {'loss':>5} {'detect s':>8} {'min d m':>8} "
-          f"{'turn °':>7} {'at end':>9} {'rtf':>6}  result")
+          f"{'reversing s':<13} {'turn °':>7} {'at end':>9} {'rtf':>6}  result")
     failures = 0
     for r in results:
         config, obstacle, _, seed, loss = r["case"]
@@ -76,8 +79,8 @@ def main() -> int:
         detect = f"{r['detect_t']:.1f}" if r["detect_t"] is not None else "-"
         min_d = f"{r['min_d']:.3f}" if r["min_d"] is not None else "-"
         turn = f"{r['turn']:+.1f}" if r["turn"] is not None else "-"
-        print(f"{config:<12} {obstacle:<9} {seed:>4} {loss:>5.2f} {detect:>8} {min_d:>8} {turn:>7} "
-              f"{r['end']:>9} {r['rtf']:>6.1f}  {'PASS' if not bad else 'FAIL: ' + ', '.join(bad)}")
+        print(f"{config:<12} {obstacle:<9} {seed:>4} {loss:>5.2f} {detect:>8} {min_d:>8} {r['spans']:<13} "
+              f"{turn:>7} {r['end']:>9} {r['rtf']:>6.1f}  {'PASS' if not bad else 'FAIL: ' + ', '.join(bad)}")
     print(f"{len(results) - failures}/{len(results)} passed in {time.perf_counter() - start:.0f} s")
     return 1 if failures else 0
 
