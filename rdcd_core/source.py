@@ -37,9 +37,11 @@ class LineIndex:
     def __init__(self, text: str) -> None:
         self.text = text
         self.line_starts = [0]
-        for index, char in enumerate(text):
-            if char == "\n":
-                self.line_starts.append(index + 1)
+        find = text.find
+        newline = find("\n")
+        while newline >= 0:
+            self.line_starts.append(newline + 1)
+            newline = find("\n", newline + 1)
 
     def line_col(self, offset: int) -> LineCol:
         offset = max(0, min(offset, len(self.text)))

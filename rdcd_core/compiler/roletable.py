@@ -33,11 +33,15 @@ class RoleTable:
 
 
 def _method_bodies(model: Model) -> list[ast.Node]:
-    nodes: list[ast.Node] = []
+    """Every invariant and method body once (after copy-down, inherited ones repeat per role)."""
+    nodes: dict[int, ast.Node] = {}
     for symbol in model.roles.values():
-        nodes.extend(inv.decl.expr for inv in symbol.invariants)
-        nodes.extend(m.decl.body for m in symbol.methods.values() if m.decl.body is not None)
-    return nodes
+        for inv in symbol.invariants:
+            nodes.setdefault(id(inv.decl.expr), inv.decl.expr)
+        for method in symbol.methods.values():
+            if method.decl.body is not None:
+                nodes.setdefault(id(method.decl.body), method.decl.body)
+    return list(nodes.values())
 
 
 def scan_roles(model: Model) -> tuple[list[str], list[str]]:
