@@ -7,7 +7,10 @@ Each subcommand lives in its own module that exposes ``add_arguments(parser)`` a
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import io
+import os
 import sys
 
 from rdcd_core import __version__
@@ -55,23 +58,74 @@ def _selected_command(argv: list[str]) -> str | None:
     return None
 
 
+class _ClosedOutput(io.TextIOBase):
+    """Stands for a standard stream the process was started without (``>&-``): writing to it is
+    an I/O error reported in one line, not an AttributeError on None."""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        raise OSError(errno.EBADF, "standard output is closed")
+
+
+def _prepare_streams() -> None:
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115 (lives as long as we do)
+    if sys.stdout is None:
+        sys.stdout = _ClosedOutput()
+    for stream in (sys.stdout, sys.stderr):
+        # paths and programs may hold characters the output encoding lacks (PYTHONIOENCODING=ascii)
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
+
+
+def _silence_stdout() -> None:
+    """After a broken pipe, the interpreter's final flush would fail again and print a warning."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, io.UnsupportedOperation):
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
-    parser = build_parser(_selected_command(argv))
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help(sys.stderr)
-        return 2
-    if getattr(args, "unavailable", None):
-        print(f"rdcd: '{args.unavailable}' is not available in this build", file=sys.stderr)
-        return 2
+    _prepare_streams()
+    name = "rdcd"
     try:
-        return int(args.handler(args))
+        parser = build_parser(_selected_command(argv))
+        args = parser.parse_args(argv)  # --help and --version write to stdout too
+        if args.command is None:
+            parser.print_help(sys.stderr)
+            return 2
+        name = f"rdcd {args.command}"
+        if getattr(args, "unavailable", None):
+            print(f"rdcd: '{args.unavailable}' is not available in this build", file=sys.stderr)
+            return 2
+        status = int(args.handler(args))
+        sys.stdout.flush()  # a full disk must show here, not after main has returned
+        return status
     except KeyboardInterrupt:
         print("rdcd: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
+    except BrokenPipeError:  # the reader stopped early (`| head`): nothing to report
+        _silence_stdout()
         return 0
+    except OSError as error:  # an I/O error no subcommand caught: writing the output, mostly
+        where = f"{error.filename}: " if error.filename else "cannot write the output: "
+        _report(f"{name}: {where}{error.strerror or error}")
+        return 2
+    except Exception as error:  # a bug: one clear line, not a traceback (status 1, as E100)
+        _report(f"{name}: internal error: {type(error).__name__}: {error}; please report this bug")
+        return 1
+
+
+def _report(message: str) -> None:
+    try:
+        print(message, file=sys.stderr)
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":

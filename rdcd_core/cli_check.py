@@ -6,7 +6,10 @@ Exit status: 0 no errors, 1 errors (or warnings with --warnings-as-errors), 2 us
 from __future__ import annotations
 
 import argparse
+import errno
 import json
+import os
+import stat
 import sys
 from pathlib import Path
 
@@ -32,8 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        if args.packet_budget < 8:
-            raise InputError(f"--packet-budget must be at least 8 bytes, not {args.packet_budget}")
+        if not 8 <= args.packet_budget <= 71:  # as `rdcd compile --max-packet`
+            raise InputError(f"--packet-budget must be 8..71 bytes, not {args.packet_budget}")
         sources = [(path, _read(path)) for path in collect_files(args.paths)]
     except InputError as error:
         print(f"rdcd check: {error}", file=sys.stderr)
@@ -58,21 +61,42 @@ def collect_files(paths: list[str]) -> list[str]:
     files: list[str] = []
     for raw in paths:
         path = Path(raw)
-        if path.is_dir():
-            found = sorted(p for p in path.rglob("*.rdcd") if p.is_file())
-            if not found:
-                raise InputError(f"no .rdcd files found in {raw}")
-            files.extend(str(p) for p in found)
-        elif path.exists():
-            files.append(raw)
-        else:
-            raise InputError(f"no such file or directory: {raw}")
+        try:
+            if not raw:  # Path("") is the current directory
+                raise FileNotFoundError
+            if path.is_dir():
+                found = sorted(p for p in path.rglob("*.rdcd") if p.is_file())
+                if not found:
+                    raise InputError(f"no .rdcd files found in {raw}")
+                files.extend(str(p) for p in found)
+            elif path.exists():
+                files.append(raw)
+            else:
+                raise FileNotFoundError
+        except FileNotFoundError:
+            raise InputError(f"no such file or directory: {raw!r}" if not raw else
+                             f"no such file or directory: {raw}") from None
+        except OSError as error:  # a name too long, a loop of links, a directory not listable
+            raise InputError(f"cannot read {raw}: {error.strerror or error}") from None
     return files
+
+
+def read_regular(path: str) -> bytes:
+    """The bytes of a regular file. Opened without blocking and checked first: a FIFO would wait
+    for a writer forever and a device may never end (OSError "not a regular file")."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    with os.fdopen(fd, "rb") as file:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISDIR(mode):
+            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), path)
+        if not stat.S_ISREG(mode):
+            raise OSError(errno.EINVAL, "not a regular file", path)
+        return file.read()
 
 
 def _read(path: str) -> str:
     try:
-        data = Path(path).read_bytes()
+        data = read_regular(path)
     except OSError as error:
         raise InputError(f"cannot read {path}: {error.strerror or error}") from None
     try:
@@ -108,12 +132,13 @@ def _index(result: CheckResult) -> LineIndex:
 def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
     line, column, end_line, end_column = _positions(result, diagnostic)
     label = diagnostic.severity.label
-    lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {diagnostic.message}"]
+    lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {_clip(diagnostic.message)}"]
     source = _index(result).line_text(line - 1)
     if source.strip():
         width = (end_column - column) if end_line == line else len(source) - column + 1
+        source, at, width = _excerpt(source, column - 1, width)
         gutter = " " * len(str(line))
-        prefix = "".join(c if c == "\t" else " " for c in source[:column - 1])
+        prefix = "".join(c if c == "\t" else " " for c in source[:at])
         lines += [f"{gutter} |", f"{line} | {source}", f"{gutter} | {prefix}{'^' * max(1, width)}"]
     index = _index(result)
     for related in diagnostic.related:
@@ -122,6 +147,24 @@ def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
     for fix in diagnostic.fixes:
         lines.append(f"  = help: {fix.title}")
     return "\n".join(lines) + "\n\n"
+
+
+def _clip(message: str, limit: int = 400) -> str:
+    """A message of pathological length (it quotes a name of megabytes) cut in the middle."""
+    if len(message) <= limit:
+        return message
+    return f"{message[:limit // 2]} ... {message[-limit // 2:]}"
+
+
+def _excerpt(source: str, column: int, width: int, shown: int = 200) -> tuple[str, int, int]:
+    """A long line cut to ``shown`` characters around the 0-based ``column`` (one diagnostic on a
+    line of megabytes must not print megabytes): the text, the column and the width in it."""
+    if len(source) <= shown:
+        return source, column, width
+    begin = max(0, min(column - shown // 4, len(source) - shown))
+    end = begin + shown
+    lead, tail = ("..." if begin > 0 else ""), ("..." if end < len(source) else "")
+    return lead + source[begin:end] + tail, column - begin + len(lead), min(width, end - column)
 
 
 def summary(results: list[tuple[str, CheckResult]]) -> str:

@@ -6,10 +6,11 @@ Exit status: 0 compiled, 1 the program has errors, 2 usage or I/O error.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from rdcd_core.cli_check import render_text
+from rdcd_core.cli_check import read_regular, render_text
 from rdcd_core.compiler import compile_model
 from rdcd_core.compiler.render import render_c, render_json, render_listing
 from rdcd_core.diagnostics import Severity
@@ -28,16 +29,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _read(path: str) -> str:
+    name = path or "''"  # an empty argument: say so, not ": no such file"
     try:
-        return Path(path).read_bytes().decode("utf-8")
+        return read_regular(path).decode("utf-8")
     except FileNotFoundError:
-        raise OSError(f"{path}: no such file") from None
+        raise OSError(f"{name}: no such file") from None
     except IsADirectoryError:
-        raise OSError(f"{path}: is a directory") from None
+        raise OSError(f"{name}: is a directory") from None
     except UnicodeDecodeError:
-        raise OSError(f"{path}: not UTF-8 text") from None
+        raise OSError(f"{name}: not UTF-8 text") from None
     except OSError as error:
-        raise OSError(f"{path}: {error.strerror or error}") from None
+        raise OSError(f"{name}: {error.strerror or error}") from None
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):  # the output does not exist yet (or cannot be looked at)
+        return False
 
 
 def run(args: argparse.Namespace) -> int:
@@ -48,6 +57,10 @@ def run(args: argparse.Namespace) -> int:
         text = _read(args.file)
     except OSError as error:
         print(f"rdcd compile: {error}", file=sys.stderr)
+        return 2
+    if args.output and _same_file(args.file, args.output):
+        print(f"rdcd compile: -o {args.output} is the program itself; refusing to overwrite it",
+              file=sys.stderr)
         return 2
     result = check_text(text, packet_budget=args.max_packet)
     diagnostics = list(result.diagnostics)

@@ -109,6 +109,8 @@ def make_header(type_: int, id_: int, x: int = 0, y: int = 0, z: int = 0, r: int
 
 def decode(data: bytes) -> Packet | PacketError:
     """Decode one packet; malformed input gives a PacketError (never raises)."""
+    if isinstance(data, int):  # bytes(n) would make n zero bytes
+        return PacketError("not bytes")
     try:
         data = bytes(data)
     except (TypeError, ValueError):

@@ -105,8 +105,10 @@ class ModuleRuntime:
             self._error("receive buffer full, packet dropped")
             return
         try:
+            if isinstance(packet, int):  # bytes(n) would make n zero bytes
+                raise TypeError("a packet is bytes")
             self._inbox.append((int(physical_channel), bytes(packet)))
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             self.bad_packets += 1
 
     def needs_step(self, events: bool = True) -> bool:
@@ -129,6 +131,8 @@ class ModuleRuntime:
         ident = self._next_inject_id
         self._next_inject_id = (ident + 1) & 0xFF
         try:
+            if isinstance(fragment, int):  # bytes(n) would make n zero bytes
+                raise TypeError("a fragment is bytes")
             code = bytes(fragment)
         except (TypeError, ValueError):
             self._error("inject: the fragment is not bytes")

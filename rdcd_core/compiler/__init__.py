@@ -16,6 +16,7 @@ from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limi
 from rdcd_core.compiler.plan import plan
 from rdcd_core.compiler.program import (
     HEADER_BYTES,
+    MAX_PROGRAM_BYTES,
     PROGRAM_BUDGET,
     CompiledProgram,
     Fragment,
@@ -44,7 +45,8 @@ def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = F
     found = role_id_limit(model, table) + command_limit(model, commands)
     ctxs = {role: Context(model, table, role, strict_isa, command_numbers=commands)
             for role in model.deployment}
-    planner = plan(ctxs, model.deployment, packet_budget - HEADER_BYTES)
+    # a fragment must fit its packet and a program slot, however large the packets may be
+    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, MAX_PROGRAM_BYTES))
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)

@@ -21,6 +21,7 @@ class Context:
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     mixins: list[str] = field(default_factory=list)  # active assumeRole mixins, innermost last
     inlining: list[str] = field(default_factory=list)
+    inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
     cache: dict[tuple[str, int], object] = field(default_factory=dict)  # per-compilation memo
 

@@ -83,5 +83,7 @@ def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]])
         elif isinstance(arg, Body):
             out.extend(ranges[id(arg)])
         else:
-            out.append(arg & 0xFF)
-    return bytes(out)
+            out.append(arg)
+    # Offsets past 255 only occur in code far over the 64-byte slot (reported as E601); the
+    # planner still needs its size, so every operand is kept to one byte.
+    return bytes(b & 0xFF for b in out)

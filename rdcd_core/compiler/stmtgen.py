@@ -15,6 +15,9 @@ QUERIES = {"center_position", "total_connected", "connected", "x", "y", "z"}
 EVENT_OPS = {"disableEvent": "DISABLE_EVENT", "enableEvent": "ENABLE_EVENT", "clearEvent": "CLEAR_EVENT"}
 CMD_CW, CMD_CCW, CMD_STOP, CMD_DEGREES, CMD_TO = 1, 2, 3, 4, 5
 USER_COMMAND_BASE = 128
+# Inlining nests a method's body inside its caller's; code generation recurses over the nesting,
+# so the bodies inlined into one another may add at most as many levels as one parsed tree has.
+MAX_INLINED_NESTING = 100
 
 
 def statements(stmts: tuple[ast.Stmt, ...] | list[ast.Stmt], ctx: Context, out: list[Item]) -> None:
@@ -73,10 +76,37 @@ def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
         ctx.report(codes.UNSUPPORTED, span, f"'self.{name}' has no body to inline")
     elif name in ctx.inlining:
         ctx.report(codes.UNSUPPORTED, span, f"'self.{name}' calls itself; it cannot be inlined")
+    elif ctx.inlined_nesting + nesting(method.decl.body, ctx) > MAX_INLINED_NESTING:
+        ctx.report(codes.UNSUPPORTED, span,
+                   f"plain method calls nest too deeply to inline ({len(ctx.inlining) + 1} calls "
+                   f"deep: {_chain([*ctx.inlining, name])}); call fewer methods inside one another")
     else:
+        saved = ctx.inlined_nesting
+        ctx.inlined_nesting += nesting(method.decl.body, ctx)
         ctx.inlining.append(name)
         statements(method.decl.body.statements, ctx, out)
         ctx.inlining.pop()
+        ctx.inlined_nesting = saved
+
+
+def nesting(node: ast.Node, ctx: Context) -> int:
+    """Levels of the tree under ``node`` (an upper bound of the recursion it costs), without
+    recursion; memoised per compilation."""
+    key = ("nesting", id(node))
+    if key not in ctx.cache:
+        deepest, stack = 0, [(node, 1)]
+        while stack:
+            current, level = stack.pop()
+            deepest = max(deepest, level)
+            stack.extend((child, level + 1) for child in ast.children(current))
+        ctx.cache[key] = deepest
+    return ctx.cache[key]  # type: ignore[return-value]
+
+
+def _chain(names: list[str]) -> str:
+    if len(names) > 12:  # keep the message one readable line
+        names = [*names[:6], f"... ({len(names) - 12} more)", *names[-6:]]
+    return " -> ".join(names)
 
 
 def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object) -> None:

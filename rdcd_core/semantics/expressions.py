@@ -50,8 +50,11 @@ def check_bool(env: Env, expr: ast.Expr, what: str) -> None:
 def _int_literal(env: Env, expr: ast.IntLit, negated: bool) -> Result:
     value = -expr.value if negated else expr.value
     if not INT8_MIN <= value <= INT8_MAX:
+        digits = len(str(expr.value)) if expr.value < 10**18 else expr.span.end - expr.span.start
+        shown = f"integer {value}" if digits <= 20 else \
+            f"{'a negative' if negated else 'an'} integer of {digits} digits"
         env.ctx.report(codes.INT_RANGE, expr.span,
-                       f"integer {value} is outside -128..127; every value is an 8-bit signed integer")
+                       f"{shown} is outside -128..127; every value is an 8-bit signed integer")
         return Type.INT, None
     return Type.INT, Value(Type.INT, value)
 

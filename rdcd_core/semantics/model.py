@@ -104,9 +104,11 @@ class Model:
     def ancestors(self, name: str) -> list[str]:
         """``name`` and the roles it extends, nearest first, up to Module (cycles cut)."""
         chain: list[str] = []
+        seen: set[str] = set()  # a set: long chains of roles stay linear
         current: str | None = name
-        while current is not None and current in self.roles and current not in chain:
+        while current is not None and current in self.roles and current not in seen:
             chain.append(current)
+            seen.add(current)
             current = self.roles[current].parent
         return chain
 

@@ -37,6 +37,9 @@ def check_recursion(ctx: Context) -> None:
 
 
 def _report(ctx: Context, cycle: list[str], callee: ast.MethodDecl, call_name: ast.Name) -> None:
-    chain = " -> ".join([*cycle, callee.name.text])
+    names = [*cycle, callee.name.text]
+    if len(names) > 12:  # keep the message one readable line
+        names = [*names[:6], f"... ({len(names) - 12} more)", *names[-6:]]
+    chain = " -> ".join(names)
     ctx.report(codes.RECURSION, call_name.span,
                f"recursive call {chain}; plain methods are inlined, so recursion is not allowed")

@@ -167,7 +167,7 @@ class AstBuilder:
     def int_lit(self, c: list) -> ast.IntLit:
         tok = c[0]
         try:
-            value = int(tok.value)
+            value = int(tok.value.lstrip("0") or "0")  # leading zeros do not count to the limit
         except ValueError:  # longer than Python converts (4300 digits)
             value = _HUGE
         return ast.IntLit(value, Span(tok.start, tok.end))

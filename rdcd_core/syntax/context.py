@@ -25,7 +25,7 @@ _COMPARISONS = frozenset({"<", ">", "<=", ">="})
 
 def describe_token(tok: Tok) -> str:
     if tok.type == "NAME":
-        return f"name '{tok.value}'"
+        return f"name '{tok.value}'" if len(tok.value) <= 40 else f"name '{tok.value[:40]}...'"
     if tok.type == "INT":
         return f"number {tok.value[:20]}"
     if tok.type == "$END":

@@ -23,7 +23,13 @@ COMMANDS = frozenset(range(1, 6)) | frozenset(range(128, 133))
 
 def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT) -> list[str]:
     """Errors of a fragment ([] when it is well formed)."""
-    return _verify(bytes(code), strict, max_size, depth=0)
+    if isinstance(code, int):  # bytes(n) would make n zero bytes
+        return [f"not a fragment: {type(code).__name__}"]
+    try:
+        code = bytes(code)
+    except (TypeError, ValueError) as error:
+        return [f"not a fragment: {error}"]
+    return _verify(code, strict, max_size, depth=0)
 
 
 def _verify(code: bytes, strict: bool, max_size: int, depth: int) -> list[str]:
