@@ -6,20 +6,13 @@ Exit status: 0 no errors, 1 errors (or warnings with --warnings-as-errors), 2 us
 from __future__ import annotations
 
 import argparse
-import errno
 import json
-import os
-import stat
 import sys
-from pathlib import Path
 
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
+from rdcd_core.inputs import InputError, collect_files, read_source
 from rdcd_core.source import LineIndex
-
-
-class InputError(Exception):
-    """A usage or I/O problem: reported in one line, exit status 2."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -37,7 +30,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         if not 8 <= args.packet_budget <= 71:  # as `rdcd compile --max-packet`
             raise InputError(f"--packet-budget must be 8..71 bytes, not {args.packet_budget}")
-        sources = [(path, _read(path)) for path in collect_files(args.paths)]
+        sources = [(path, read_source(path)) for path in collect_files(args.paths)]
     except InputError as error:
         print(f"rdcd check: {error}", file=sys.stderr)
         return 2
@@ -55,54 +48,6 @@ def run(args: argparse.Namespace) -> int:
                 out.write(render_text(path, result, diagnostic))
         out.write(summary(results) + "\n")
     return exit_status(results, args.warnings_as_errors)
-
-
-def collect_files(paths: list[str]) -> list[str]:
-    files: list[str] = []
-    for raw in paths:
-        path = Path(raw)
-        try:
-            if not raw:  # Path("") is the current directory
-                raise FileNotFoundError
-            if path.is_dir():
-                found = sorted(p for p in path.rglob("*.rdcd") if p.is_file())
-                if not found:
-                    raise InputError(f"no .rdcd files found in {raw}")
-                files.extend(str(p) for p in found)
-            elif path.exists():
-                files.append(raw)
-            else:
-                raise FileNotFoundError
-        except FileNotFoundError:
-            raise InputError(f"no such file or directory: {raw!r}" if not raw else
-                             f"no such file or directory: {raw}") from None
-        except OSError as error:  # a name too long, a loop of links, a directory not listable
-            raise InputError(f"cannot read {raw}: {error.strerror or error}") from None
-    return files
-
-
-def read_regular(path: str) -> bytes:
-    """The bytes of a regular file. Opened without blocking and checked first: a FIFO would wait
-    for a writer forever and a device may never end (OSError "not a regular file")."""
-    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    with os.fdopen(fd, "rb") as file:
-        mode = os.fstat(fd).st_mode
-        if stat.S_ISDIR(mode):
-            raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), path)
-        if not stat.S_ISREG(mode):
-            raise OSError(errno.EINVAL, "not a regular file", path)
-        return file.read()
-
-
-def _read(path: str) -> str:
-    try:
-        data = read_regular(path)
-    except OSError as error:
-        raise InputError(f"cannot read {path}: {error.strerror or error}") from None
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise InputError(f"{path} is not UTF-8 text (byte {error.start})") from None
 
 
 def exit_status(results: list[tuple[str, CheckResult]], warnings_as_errors: bool) -> int:

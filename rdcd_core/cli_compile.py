@@ -10,11 +10,12 @@ import os
 import sys
 from pathlib import Path
 
-from rdcd_core.cli_check import read_regular, render_text
+from rdcd_core.cli_check import render_text
 from rdcd_core.compiler import compile_model
 from rdcd_core.compiler.render import render_c, render_json, render_listing
 from rdcd_core.diagnostics import Severity
 from rdcd_core.frontend import check_text
+from rdcd_core.inputs import InputError, read_source
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,20 +27,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--strict-isa", action="store_true",
                         help="refuse this project's extension instructions")
     parser.add_argument("-o", "--output", metavar="OUT", help="write the output here, not to stdout")
-
-
-def _read(path: str) -> str:
-    name = path or "''"  # an empty argument: say so, not ": no such file"
-    try:
-        return read_regular(path).decode("utf-8")
-    except FileNotFoundError:
-        raise OSError(f"{name}: no such file") from None
-    except IsADirectoryError:
-        raise OSError(f"{name}: is a directory") from None
-    except UnicodeDecodeError:
-        raise OSError(f"{name}: not UTF-8 text") from None
-    except OSError as error:
-        raise OSError(f"{name}: {error.strerror or error}") from None
 
 
 def _same_file(a: str, b: str) -> bool:
@@ -54,8 +41,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"rdcd compile: --max-packet must be 8..71 bytes, not {args.max_packet}", file=sys.stderr)
         return 2
     try:
-        text = _read(args.file)
-    except OSError as error:
+        text = read_source(args.file)
+    except InputError as error:
         print(f"rdcd compile: {error}", file=sys.stderr)
         return 2
     if args.output and _same_file(args.file, args.output):

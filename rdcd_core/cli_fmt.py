@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from rdcd_core.formatter import format_text
+from rdcd_core.inputs import InputError, collect_files, read_source, write_atomically
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -15,25 +15,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="do not write; list the files that would change and exit 1 if any")
 
 
-def _files(paths: list[str]) -> list[Path]:
-    files: list[Path] = []
-    for name in paths:
-        path = Path(name)
-        if path.is_dir():
-            files.extend(sorted(path.rglob("*.rdcd")))
-        else:
-            files.append(path)
-    return files
-
-
 def run(args: argparse.Namespace) -> int:
+    # Every file is read before any is written: an unreadable one stops the run with nothing changed.
+    try:
+        sources = [(path, read_source(path)) for path in collect_files(args.paths)]
+    except InputError as error:
+        print(f"rdcd fmt: {error}", file=sys.stderr)
+        return 2
     status = 0
-    for path in _files(args.paths):
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            print(f"rdcd fmt: cannot read {path}: {error}", file=sys.stderr)
-            return 2
+    for path, text in sources:
         formatted = format_text(text)
         if formatted is None:
             print(f"{path}: has syntax errors, not formatted (run `rdcd check {path}`)", file=sys.stderr)
@@ -46,9 +36,10 @@ def run(args: argparse.Namespace) -> int:
             status = max(status, 1)
             continue
         try:
-            path.write_text(formatted, encoding="utf-8")
+            write_atomically(path, formatted)
         except OSError as error:
-            print(f"rdcd fmt: cannot write {path}: {error}", file=sys.stderr)
+            print(f"rdcd fmt: cannot write {path}: {error.strerror or error} (the file is unchanged)",
+                  file=sys.stderr)
             return 2
         print(f"reformatted {path}")
     return status

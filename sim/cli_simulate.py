@@ -69,12 +69,12 @@ def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.compiler import compile_model
     from rdcd_core.diagnostics import Severity
     from rdcd_core.frontend import check_text
+    from rdcd_core.inputs import InputError, read_source
 
     try:
-        text = Path(path).read_bytes().decode("utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        reason = "not UTF-8 text" if isinstance(e, UnicodeDecodeError) else (e.strerror or str(e))
-        return _fail(f"cannot read {path}: {reason}")
+        text = read_source(path)
+    except InputError as e:
+        return _fail(str(e))
     result = check_text(text)
     diagnostics = list(result.diagnostics)
     program = None

@@ -34,6 +34,8 @@ def shipped_names() -> list[str]:
 def load_config(name_or_path: str | Path) -> Structure:
     text = str(name_or_path)
     path = Path(text)
+    if text and path.exists() and not path.is_file():
+        raise ConfigError(f"{text}: not a configuration file (a directory or a special file)")
     if not path.is_file():
         match = re.fullmatch(r"snake(\d+)", text)
         if match:

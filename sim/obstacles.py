@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import pybullet as pb
@@ -29,6 +30,17 @@ class Box:
         return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
 
 
+MAX_OBSTACLE_M = 1000.0
+
+
+def _finite(text: str) -> float:
+    """A finite number of metres within reach of the simulation (ValueError otherwise)."""
+    value = float(text)
+    if not math.isfinite(value) or abs(value) > MAX_OBSTACLE_M:
+        raise ValueError(text)
+    return value
+
+
 def parse_obstacle(text: str) -> list[Box]:
     """``none``, ``wall:D`` (a wall across +y, its face D m ahead of the driver) or ``box:X,Y,W,L``."""
     kind, _, rest = text.strip().partition(":")
@@ -37,13 +49,13 @@ def parse_obstacle(text: str) -> list[Box]:
         if kind == "none" and not rest:
             return []
         if kind == "wall":
-            d = float(rest)
+            d = _finite(rest)
             if d <= 0:
                 raise ObstacleError(f"--obstacle {text}: the wall distance must be positive")
             t = params.WALL_THICKNESS
             return [Box(0.0, d + t / 2, params.WALL_WIDTH, t, "wall")]
         if kind == "box":
-            x, y, w, length = (float(v) for v in rest.split(","))
+            x, y, w, length = (_finite(v) for v in rest.split(","))
             if w <= 0 or length <= 0:
                 raise ObstacleError(f"--obstacle {text}: width and length must be positive")
             return [Box(x, y, w, length)]

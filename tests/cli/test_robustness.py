@@ -308,8 +308,8 @@ def test_output_encoding_without_the_characters(tmp_path: Path) -> None:
 
 # ------------------------------------------------------------------- rdcd fmt (read-only probes)
 
-@pytest.mark.parametrize(("kind", "words"), [("missing", "cannot read"), ("latin1", "cannot read"),
-                                             ("garbage", "cannot read")])
+@pytest.mark.parametrize(("kind", "words"), [("missing", "no such file"), ("latin1", "not UTF-8"),
+                                             ("garbage", "not UTF-8")])
 def test_fmt_check_io_errors(weird: dict[str, Path], kind: str, words: str) -> None:
     done = rdcd("fmt", "--check", str(weird[kind]))
     assert_clean_failure(done, 2, "rdcd fmt: ", words)
@@ -330,14 +330,10 @@ def test_fmt_long_path(weird: dict[str, Path]) -> None:
                          "File name too long")
 
 
-@pytest.mark.xfail(strict=True, reason="cli_fmt: a directory without .rdcd files is silently "
-                   "accepted (exit 0), unlike `rdcd check` -- not ours to fix, reported")
 def test_fmt_empty_directory(weird: dict[str, Path]) -> None:
     assert_clean_failure(rdcd("fmt", "--check", str(weird["empty_dir"])), 2, "no .rdcd files")
 
 
-@pytest.mark.xfail(strict=True, reason="cli_fmt: '' is Path('.'), so `rdcd fmt ''` formats the "
-                   "whole current directory -- not ours to fix, reported")
 def test_fmt_empty_path(tmp_path: Path) -> None:
     (tmp_path / "a.rdcd").write_text("role A{self.x()>0;}\ndeployment{A}\n", encoding="utf-8")
     done = subprocess.run([sys.executable, "-m", "rdcd_core", "fmt", "--check", ""], cwd=tmp_path,
@@ -346,8 +342,6 @@ def test_fmt_empty_path(tmp_path: Path) -> None:
     assert_clean_failure(done, 2, "no such file")
 
 
-@pytest.mark.xfail(strict=True, reason="cli_fmt: a FIFO blocks for ever in read_text -- not ours "
-                   "to fix, reported")
 def test_fmt_fifo(weird: dict[str, Path]) -> None:
     try:
         done = subprocess.run([sys.executable, "-m", "rdcd_core", "fmt", "--check",
@@ -355,4 +349,60 @@ def test_fmt_fifo(weird: dict[str, Path]) -> None:
                               timeout=10)
     except subprocess.TimeoutExpired:
         pytest.fail("rdcd fmt blocked on a FIFO")
+    assert_clean_failure(done, 2, "not a regular file")
+
+
+def test_fmt_leaves_the_file_untouched_when_the_write_fails(tmp_path: Path) -> None:
+    # A read-only folder: the temporary file cannot be created, the original must survive whole.
+    import os
+
+    if os.geteuid() == 0:
+        pytest.skip("root writes into read-only folders")
+    program = tmp_path / "ro" / "a.rdcd"
+    program.parent.mkdir()
+    original = "role A{self.x()>0;}\ndeployment{A}\n"
+    program.write_text(original, encoding="utf-8")
+    program.parent.chmod(0o500)
+    try:
+        result = rdcd("fmt", str(program))
+    finally:
+        program.parent.chmod(0o700)
+    assert result.returncode == 2 and "unchanged" in result.stderr
+    assert program.read_text(encoding="utf-8") == original
+
+
+def test_fmt_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from rdcd_core import inputs
+
+    program = tmp_path / "a.rdcd"
+    program.write_text("old text\n", encoding="utf-8")
+
+    def full_disk(*args: object, **kwargs: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(inputs.os, "fsync", full_disk)
+    with pytest.raises(OSError):
+        inputs.write_atomically(str(program), "new text that does not fit\n")
+    assert program.read_text(encoding="utf-8") == "old text\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.rdcd"]
+
+
+# ------------------------------------------------------------------- rdcd simulate (options)
+
+@pytest.mark.parametrize("obstacle", ["wall:nan", "wall:inf", "box:nan,0,1,1", "wall:1e9", "wall:"])
+def test_simulate_refuses_impossible_obstacles(obstacle: str) -> None:
+    done = rdcd("simulate", "examples/obstacle_avoidance.rdcd", "--obstacle", obstacle, "--duration", "1")
+    assert_clean_failure(done, 2, "--obstacle")
+
+
+def test_simulate_refuses_a_folder_as_configuration(tmp_path: Path) -> None:
+    done = rdcd("simulate", "examples/obstacle_avoidance.rdcd", "--config", str(tmp_path), "--duration", "1")
+    assert_clean_failure(done, 2, "not a configuration file")
+
+
+def test_simulate_does_not_wait_on_a_fifo(weird: dict[str, Path]) -> None:
+    fifo = next((p for name, p in weird.items() if "fifo" in name), None)
+    if fifo is None:
+        pytest.skip("no FIFO here")
+    done = rdcd("simulate", str(fifo), "--duration", "1", timeout=60)
     assert_clean_failure(done, 2, "not a regular file")
