@@ -88,7 +88,7 @@ def _cli(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]
 
 
 @pytest.mark.parametrize("args,fragment", [
-    (["missing.rdcd"], "cannot read"),
+    (["missing.rdcd"], "no such file"),
     ([PROGRAM, "--config", "car99"], "car99"),
     ([PROGRAM, "--obstacle", "wall:"], "--obstacle"),
     ([PROGRAM, "--duration", "0"], "--duration"),
