@@ -34,7 +34,7 @@ def _connector_positions(structure) -> dict[tuple[int, int], np.ndarray]:  # noq
         pb.disconnect(client)
 
 
-@pytest.mark.parametrize("name", STRUCTURES + ["random12-1", "random30-7"])
+@pytest.mark.parametrize("name", STRUCTURES + [f"random{5 + 2 * i}-{100 + i}" for i in range(20)])
 def test_touching_connectors_meet(name: str) -> None:
     if name.startswith("random"):
         n, seed = name[6:].split("-")
