@@ -20,16 +20,21 @@ MAX_INLINE = 100
 
 def format_text(text: str) -> str | None:
     """The formatted text, or None if the text has syntax errors."""
+    program = _parsed(text)
+    return format_program(program, text) if program is not None else None
+
+
+def _parsed(text: str) -> ast.Program | None:
+    """The program of ``text``, or None if it has syntax errors."""
     from rdcd_core.syntax.parser import parse
 
     try:
         result = parse(text)
     except Exception:  # the parser promises not to raise; be safe anyway
         return None
-    errors = [d for d in result.diagnostics if d.severity is Severity.ERROR]
-    if result.program is None or errors:
+    if result.program is None or any(d.severity is Severity.ERROR for d in result.diagnostics):
         return None
-    return format_program(result.program, text)
+    return result.program
 
 
 def format_program(program: ast.Program, text: str) -> str:
@@ -46,12 +51,9 @@ def format_edits(text: str) -> list[TextEdit] | None:
 
 def format_range(text: str, span: Span) -> list[TextEdit] | None:
     """Formats the whole lines of the roles (and deployment) that ``span`` touches."""
-    from rdcd_core.syntax.parser import parse
-
-    result = parse(text)
-    if result.program is None or any(d.severity is Severity.ERROR for d in result.diagnostics):
+    program = _parsed(text)
+    if program is None:
         return None
-    program = result.program
     printer = _Printer(program, text)
     printer.run()
     items = [*program.roles, *([program.deployment] if program.deployment else [])]
@@ -80,8 +82,8 @@ def format_range(text: str, span: Span) -> list[TextEdit] | None:
     return [TextEdit(Span(start, end), new_text)]
 
 
-def line_edits(old: str, new: str, lines: tuple[int, int] | None = None) -> list[TextEdit]:
-    """Line-based edits from ``old`` to ``new``; only hunks touching ``lines`` when given."""
+def line_edits(old: str, new: str) -> list[TextEdit]:
+    """Line-based edits from ``old`` to ``new``."""
     if old == new:
         return []
     old_lines = old.splitlines(keepends=True)
@@ -93,8 +95,6 @@ def line_edits(old: str, new: str, lines: tuple[int, int] | None = None) -> list
     matcher = difflib.SequenceMatcher(None, old_lines, new_lines, autojunk=False)
     for tag, i1, i2, j1, j2 in matcher.get_opcodes():
         if tag == "equal":
-            continue
-        if lines is not None and not (i1 <= lines[1] and max(i1, i2 - 1) >= lines[0]):
             continue
         edits.append(TextEdit(Span(starts[i1], starts[i2]), "".join(new_lines[j1:j2])))
     return edits
@@ -280,14 +280,14 @@ class _Printer:
         args = call.args
         multi = [a for a in args if isinstance(a, ast.Block) and not self._inline_block(a, depth)]
         if not multi:
-            self.line(prefix + expr(call, self.text) + ";", statement.span.end, depth)
+            self.line(prefix + expr(call) + ";", statement.span.end, depth)
             return
         # a call whose last block argument spans several lines: `self.f(a, {` … `});`
         block = multi[-1]
-        before = [arg_text(a, self.text) for a in args[: args.index(block)]]
+        before = [expr(a) for a in args[: args.index(block)]]
         head = prefix + call_head(call) + "(" + "".join(b + ", " for b in before)
         after = args[args.index(block) + 1:]
-        tail = "".join(", " + arg_text(a, self.text) for a in after) + ");"
+        tail = "".join(", " + expr(a) for a in after) + ");"
         self.block(block, head, depth, tail)
         self.last_end = max(self.last_end, statement.span.end)
 
@@ -302,27 +302,23 @@ class _Printer:
 
 
 # -- expressions (pure functions) -----------------------------------------------------------------
-def expr(node: ast.Arg, text: str = "") -> str:
+def expr(node: ast.Arg) -> str:
     if isinstance(node, ast.IntLit):
         return str(node.value)
     if isinstance(node, ast.NameRef):
         return node.name.text
     if isinstance(node, ast.Unary):
-        return node.op + expr(node.operand, text)
+        return node.op + expr(node.operand)
     if isinstance(node, ast.Binary):
-        return f"{expr(node.left, text)} {node.op} {expr(node.right, text)}"
+        return f"{expr(node.left)} {node.op} {expr(node.right)}"
     if isinstance(node, ast.Paren):
-        return f"({expr(node.expr, text)})"
+        return f"({expr(node.expr)})"
     if isinstance(node, ast.Block):
         return inline_block(node)
     if isinstance(node, ast.SelfCall):
         if not node.has_parens:
             return "self." + node.name.text
-    return call_head(node) + "(" + ", ".join(arg_text(a, text) for a in node.args) + ")"
-
-
-def arg_text(node: ast.Arg, text: str) -> str:
-    return expr(node, text)
+    return call_head(node) + "(" + ", ".join(expr(a) for a in node.args) + ")"
 
 
 def call_head(call: ast.Call) -> str:

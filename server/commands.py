@@ -56,9 +56,14 @@ def _document_text(ls: Any, uri: Any) -> str:
     if uri.startswith("file://"):
         from pygls.uris import to_fs_path
 
+        from rdcd_core.inputs import InputError, read_source
+
         path = to_fs_path(uri)
         if path and Path(path).is_file():
-            return Path(path).read_text(encoding="utf-8")
+            try:
+                return read_source(path)
+            except InputError as error:
+                raise RequestFailed(str(error)) from None
     raise RequestFailed(f"unknown document {uri}")
 
 
@@ -151,15 +156,13 @@ def bytecode_listing(ls: Any, uri: Any) -> str:
     """The listing of ``rdcd compile --format listing`` for the document as it is in the editor."""
     from rdcd_core.compiler import compile_model
     from rdcd_core.compiler.render import render_listing
+    from rdcd_core.diagnostics import Severity
+    from rdcd_core.ide.analysis import analyze
 
     text = _document_text(ls, uri)
-    document = ls.documents.get(uri)
-    analysis = document.current() if document is not None else None
-    if analysis is None or analysis.text != text:
-        from rdcd_core.ide.analysis import analyze
-
-        analysis = analyze(text)
-    errors = [d for d in analysis.diagnostics if d.severity == 1]
+    document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
+    analysis = document.current() if document is not None else analyze(text)
+    errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     if analysis.model is None or errors:
         reason = errors[0].message if errors else "the program could not be checked"
         raise RequestFailed(f"cannot compile: {reason}")

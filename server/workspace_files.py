@@ -34,6 +34,7 @@ def _roots(ls: Any) -> list[Path]:
 
 
 def _parsed(path: Path) -> Analysis | None:
+    from rdcd_core.inputs import read_source
     from rdcd_core.syntax.parser import parse
 
     try:
@@ -41,7 +42,7 @@ def _parsed(path: Path) -> Analysis | None:
         cached = _cache.get(str(path))
         if cached is not None and cached[0] == mtime:
             return cached[1]
-        text = path.read_text(encoding="utf-8")
+        text = read_source(str(path))  # regular files only: a FIFO would block the server
         result = parse(text)
         analysis = Analysis(text, result.program, None, list(result.diagnostics))
         _cache[str(path)] = (mtime, analysis)

@@ -77,25 +77,9 @@ def analyze(text: str) -> Analysis:
         result = check_text(text)
         return Analysis(text, result.program, result.model, list(result.diagnostics))
     except Exception as error:  # DESIGN rule 2 says this cannot happen; the editor must survive it
+        from rdcd_core.semantics.codes import INTERNAL_ERROR
         from rdcd_core.source import Span
 
-        crash = diag.Diagnostic("E000", diag.Severity.ERROR, Span(0, 0), f"internal error: {error}")
+        crash = diag.make(INTERNAL_ERROR, Span(0, 0), f"internal error: {error}")
         return Analysis(text, None, None, [crash])
 
-
-def role_at(program: ast.Program | None, offset: int) -> ast.RoleDecl | None:
-    if program is None:
-        return None
-    for role in program.roles:
-        if role.span.start <= offset <= role.span.end:
-            return role
-    return None
-
-
-def method_at(role: ast.RoleDecl | None, offset: int) -> ast.MethodDecl | None:
-    if role is None:
-        return None
-    for member in role.members:
-        if isinstance(member, ast.MethodDecl) and member.span.start <= offset <= member.span.end:
-            return member
-    return None

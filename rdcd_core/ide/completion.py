@@ -14,7 +14,6 @@ from rdcd_core.ide.context import (
 )
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES, Primitive, lookup_function, lookup_self
 from rdcd_core.semantics.model import Model, RoleKind
-from rdcd_core.syntax.keywords import KEYWORDS
 from rdcd_core.types import PREDEFINED_VALUES, Type
 
 
@@ -208,6 +207,3 @@ def statement_items(context: CursorContext, model: Model | None) -> list[Complet
             unique.append(item)
     return unique
 
-
-def keyword_items() -> list[CompletionItem]:
-    return [CompletionItem(k, "keyword") for k in KEYWORDS]

@@ -52,9 +52,7 @@ def call_context(before: str) -> CallContext | None:
     index = len(before) - 1
     while index >= 0:
         char = before[index]
-        if char in ")]":
-            depth += 1
-        elif char == "}":
+        if char in ")]}":
             depth += 1
         elif char == "{":
             if depth == 0:
@@ -85,7 +83,7 @@ def _callee(before: str, paren: int, commas: int) -> CallContext | None:
         if qualifier == "self":
             return CallContext(name, "self", commas, paren)
         return CallContext(name, "global", commas, paren, qualifier)
-    if name in ("if",):
+    if name == "if":
         return None
     return CallContext(name, "function", commas, paren)
 

@@ -7,11 +7,12 @@ is shown with every fragment that holds its code.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 from rdcd_core.ide.analysis import Analysis
 
-DEFAULT_PROGRAM_BUDGET = 43
+if TYPE_CHECKING:  # the compiler is imported only when sizes are asked for
+    from rdcd_core.compiler.program import CompiledProgram
 
 
 @dataclass(frozen=True)
@@ -26,35 +27,23 @@ class FragmentSize:
         return self.size > budget
 
 
-def program_budget(compiled: Any) -> int:
-    value = getattr(compiled, "program_budget", None)
-    return value if isinstance(value, int) else DEFAULT_PROGRAM_BUDGET
-
-
 def fragment_sizes(analysis: Analysis) -> list[FragmentSize]:
     cached = analysis.cache.get("fragment_sizes")
     if cached is None:
-        cached = analysis.cache["fragment_sizes"] = _fragment_sizes(analysis)
+        cached = analysis.cache["fragment_sizes"] = _fragment_sizes(analysis.compiled())
     return cached
 
 
-def _fragment_sizes(analysis: Analysis) -> list[FragmentSize]:
-    compiled = analysis.compiled()
+def _fragment_sizes(compiled: CompiledProgram | None) -> list[FragmentSize]:
     if compiled is None:
         return []
     sizes = []
-    for fragment in getattr(compiled, "fragments", ()) or ():
-        roles = tuple(getattr(fragment, "roles", ()) or ())
-        role = getattr(fragment, "role", None)
-        if role and role not in roles:
-            roles += (role,)
-        sizes.append(FragmentSize(
-            name=str(getattr(fragment, "name", "")),
-            kind=str(getattr(fragment, "kind", "")),
-            roles=roles,
-            methods=tuple(getattr(fragment, "methods", ()) or ()),
-            size=len(getattr(fragment, "code", b"") or b""),
-        ))
+    for fragment in compiled.fragments:
+        roles = tuple(fragment.roles)
+        if fragment.role and fragment.role not in roles:
+            roles += (fragment.role,)
+        sizes.append(FragmentSize(fragment.name, fragment.kind, roles, tuple(fragment.methods),
+                                  fragment.size))
     return sizes
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rdcd_core.ide.analysis import Analysis
-from rdcd_core.ide.fragments import program_budget, sizes_of_method, sizes_of_role
+from rdcd_core.ide.fragments import sizes_of_method, sizes_of_role
 from rdcd_core.ide.navigation import member_chain, split_target
 from rdcd_core.module_api import lookup_function, lookup_self
 from rdcd_core.semantics.model import Model, RoleKind, Value
@@ -81,7 +81,7 @@ def role_hover(analysis: Analysis, name: str) -> str | None:
         lines += ["", "members:"] + members
     sizes = sizes_of_role(analysis, model.concrete_subroles(name) or [name])
     if sizes:
-        budget = program_budget(analysis.compiled())
+        budget = analysis.compiled().program_budget
         lines += ["", f"fragments (program budget {budget} B):"]
         for fragment in sizes:
             mark = " ⚠ over budget" if fragment.over(budget) else ""
@@ -131,7 +131,7 @@ def method_hover(analysis: Analysis, target: str) -> str | None:
         lines.append(f"runs on every module playing `{role}` or a sub-role when called as `{role}.{name}()`")
     sizes = sizes_of_method(analysis, model.concrete_subroles(role) or [role], name)
     if sizes:
-        budget = program_budget(analysis.compiled())
+        budget = analysis.compiled().program_budget
         lines += ["", "fragments:"]
         for fragment in sizes:
             mark = " ⚠ over budget" if fragment.over(budget) else ""

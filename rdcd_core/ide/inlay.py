@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rdcd_core.ide.analysis import Analysis
-from rdcd_core.ide.fragments import FragmentSize, program_budget, sizes_of_method, sizes_of_role
+from rdcd_core.ide.fragments import FragmentSize, sizes_of_method, sizes_of_role
 from rdcd_core.syntax import ast
 
 
@@ -32,7 +32,7 @@ def fragment_hints(analysis: Analysis, start: int = 0, end: int | None = None) -
     if program is None or model is None or analysis.compiled() is None:
         return []
     end = len(analysis.text) if end is None else end
-    budget = program_budget(analysis.compiled())
+    budget = analysis.compiled().program_budget
     hints = []
     for role in program.roles:
         if role.span.end < start or role.span.start > end or model.role_of(role) is None:

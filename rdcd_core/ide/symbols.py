@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from rdcd_core.ide.analysis import Analysis
-from rdcd_core.source import Span as Span_t
+from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
 
@@ -14,8 +14,8 @@ class Symbol:
     name: str
     kind: str  # role, mixin, constant, method, invariant, deployment
     detail: str
-    span: Span_t
-    selection: Span_t
+    span: Span
+    selection: Span
     children: list[Symbol] = field(default_factory=list)
 
 
@@ -57,7 +57,7 @@ def document_symbols(analysis: Analysis) -> list[Symbol]:
         deployment = program.deployment
         names = ", ".join(n.text for n in deployment.roles)
         symbols.append(Symbol("deployment", "deployment", names, deployment.span,
-                              Span_t(deployment.span.start, deployment.span.start + len("deployment"))))
+                              Span(deployment.span.start, deployment.span.start + len("deployment"))))
     return symbols
 
 

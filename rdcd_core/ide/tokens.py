@@ -1,20 +1,17 @@
-"""Semantic tokens: resolved names from the model, keywords, numbers and comments from the text."""
+"""Semantic tokens: resolved names from the model; keywords, numbers and comments from the lexer."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 from rdcd_core.ide.analysis import Analysis
+from rdcd_core.semantics.model import RoleKind
 from rdcd_core.source import Span
-from rdcd_core.syntax.keywords import KEYWORDS
+from rdcd_core.syntax.tables import tables
 
 TOKEN_TYPES = ("class", "interface", "variable", "method", "function", "enumMember", "keyword",
                "number", "comment", "operator")
 TOKEN_MODIFIERS = ("declaration", "readonly", "abstract", "defaultLibrary")
-
-LEXEME = re.compile(r"//[^\n]*|/\*.*?(?:\*/|\Z)|[A-Za-z_][A-Za-z0-9_]*|\d+", re.DOTALL)
-KEYWORD_SET = frozenset(KEYWORDS)
 
 
 @dataclass(frozen=True)
@@ -31,7 +28,7 @@ def _ref_token(analysis: Analysis, kind: str, target: str, definition: bool) -> 
         symbol = model.roles.get(target) if model is not None else None
         if symbol is not None and symbol.is_mixin:
             return "interface", tuple(modifiers)
-        if symbol is not None and symbol.kind.value == "abstract":
+        if symbol is not None and symbol.kind is RoleKind.ABSTRACT:
             modifiers.append("abstract")
         if symbol is not None and symbol.decl is None:
             modifiers.append("defaultLibrary")
@@ -46,19 +43,20 @@ def _ref_token(analysis: Analysis, kind: str, target: str, definition: bool) -> 
 
 
 def semantic_tokens(analysis: Analysis) -> list[Token]:
+    """Tokens in text order, read from the parser's own lexer (one set of lexical rules)."""
     refs = {(r.name.span.start, r.name.span.end): r for r in analysis.references()}
-    tokens: list[Token] = []
-    for match in LEXEME.finditer(analysis.text):
-        start, end = match.span()
-        lexeme = match.group(0)
-        span = Span(start, end)
-        if lexeme.startswith("/"):
-            tokens.append(Token(span, "comment"))
-        elif lexeme[0].isdigit():
-            tokens.append(Token(span, "number"))
-        elif lexeme in KEYWORD_SET:
-            tokens.append(Token(span, "keyword"))
-        elif (ref := refs.get((start, end))) is not None:
-            token_type, modifiers = _ref_token(analysis, ref.kind, ref.target, ref.is_definition)
-            tokens.append(Token(span, token_type, modifiers))
-    return tokens
+    lexer = tables().lexer
+    lexed = lexer.lex(analysis.text)
+    found = [Token(comment.span, "comment") for comment in lexed.comments]
+    for tok in lexed.tokens:
+        if tok.type == "NAME":
+            ref = refs.get((tok.start, tok.end))
+            if ref is not None:
+                token_type, modifiers = _ref_token(analysis, ref.kind, ref.target, ref.is_definition)
+                found.append(Token(Span(tok.start, tok.end), token_type, modifiers))
+        elif tok.type == "INT":
+            found.append(Token(Span(tok.start, tok.end), "number"))
+        elif tok.value in lexer.keywords:
+            found.append(Token(Span(tok.start, tok.end), "keyword"))
+    found.sort(key=lambda token: token.span.start)
+    return found

@@ -112,12 +112,17 @@ def lsp() -> Iterator[Session]:
     session.close()
 
 
-def position_of(text: str, needle: str, nth: int = 0, delta: int = 0) -> types.Position:
-    """The LSP position of the ``nth`` occurrence of ``needle`` (plus ``delta`` characters)."""
+def offset_of(text: str, needle: str, nth: int = 0, delta: int = 0) -> int:
+    """The offset of the ``nth`` occurrence of ``needle`` (plus ``delta`` characters)."""
     index = -1
     for _ in range(nth + 1):
         index = text.index(needle, index + 1)
-    index += delta
+    return index + delta
+
+
+def position_of(text: str, needle: str, nth: int = 0, delta: int = 0) -> types.Position:
+    """The LSP position of the ``nth`` occurrence of ``needle`` (plus ``delta`` characters)."""
+    index = offset_of(text, needle, nth, delta)
     line = text.count("\n", 0, index)
     column = index - (text.rfind("\n", 0, index) + 1)
     return types.Position(line=line, character=column)

@@ -7,7 +7,7 @@ import pytest
 from rdcd_core.ide import completion, folding, hover, inlay, navigation, rename, signature, symbols, tokens
 from rdcd_core.ide.analysis import Analysis, analyze
 from rdcd_core.ide.context import call_context, cursor_context
-from tests.server.conftest import EXAMPLES
+from tests.server.conftest import EXAMPLES, offset_of
 
 OBSTACLE = (EXAMPLES / "obstacle_avoidance.rdcd").read_text()
 
@@ -18,10 +18,7 @@ def example() -> Analysis:
 
 
 def at(needle: str, delta: int = 1, nth: int = 0) -> int:
-    index = -1
-    for _ in range(nth + 1):
-        index = OBSTACLE.index(needle, index + 1)
-    return index + delta
+    return offset_of(OBSTACLE, needle, nth, delta)
 
 
 def test_definition_of_constant_use_is_the_abstract_declaration(example: Analysis) -> None:

@@ -20,6 +20,13 @@ def open_example(lsp: Session, name: str = "obstacle") -> tuple[str, str]:
     return uri, OBSTACLE
 
 
+def hover_text(lsp: Session, uri: str, text: str, needle: str, delta: int) -> str:
+    """The markdown of the hover at ``needle`` (plus ``delta`` characters)."""
+    hover = lsp.request(types.TEXT_DOCUMENT_HOVER, types.HoverParams(
+        text_document=doc(uri), position=position_of(text, needle, delta=delta)))
+    return hover.contents.value
+
+
 def test_capabilities(lsp: Session) -> None:
     caps = lsp.initialize_result.capabilities
     assert caps.hover_provider and caps.definition_provider and caps.references_provider
@@ -52,9 +59,7 @@ def test_diagnostic_has_range_code_and_related(lsp: Session) -> None:
 
 def test_hover_role(lsp: Session) -> None:
     uri, text = open_example(lsp, "hover")
-    hover = lsp.request(types.TEXT_DOCUMENT_HOVER, types.HoverParams(
-        text_document=doc(uri), position=position_of(text, "RightWheel", delta=2)))
-    value = hover.contents.value
+    value = hover_text(lsp, uri, text, "RightWheel", 2)
     assert "RightWheel" in value and "Wheel" in value and "Module" in value
     assert "turn_direction" in value and "move" in value
     assert "fragments" in value and "discover_RightWheel_LeftWheel" in value
@@ -62,20 +67,15 @@ def test_hover_role(lsp: Session) -> None:
 
 def test_hover_constant_value_per_role(lsp: Session) -> None:
     uri, text = open_example(lsp, "hover-constant")
-    hover = lsp.request(types.TEXT_DOCUMENT_HOVER, types.HoverParams(
-        text_document=doc(uri), position=position_of(text, "turnContinuously(turn_direction)", delta=20)))
-    value = hover.contents.value
+    value = hover_text(lsp, uri, text, "turnContinuously(turn_direction)", 20)
     assert "RightWheel" in value and "LeftWheel" in value and "-1" in value
 
 
 def test_hover_primitive_and_predefined(lsp: Session) -> None:
     uri, text = open_example(lsp, "hover-api")
-    hover = lsp.request(types.TEXT_DOCUMENT_HOVER, types.HoverParams(
-        text_document=doc(uri), position=position_of(text, "turnContinuously", delta=3)))
-    assert "turnContinuously(v: int)" in hover.contents.value
-    hover = lsp.request(types.TEXT_DOCUMENT_HOVER, types.HoverParams(
-        text_document=doc(uri), position=position_of(text, "EAST_WEST", delta=1)))
-    assert "axis" in hover.contents.value and "1" in hover.contents.value
+    assert "turnContinuously(v: int)" in hover_text(lsp, uri, text, "turnContinuously", 3)
+    value = hover_text(lsp, uri, text, "EAST_WEST", 1)
+    assert "axis" in value and "1" in value
 
 
 def test_definition_references_highlight(lsp: Session) -> None:

@@ -63,6 +63,23 @@ function resolveExecutable(path: string, probe: ServerProbe): string | undefined
   return probe.isExecutable(path) ? path : undefined;
 }
 
+/** The command a path setting names, or why it cannot be used (a wrong setting is not skipped). */
+function fromSetting(
+  setting: "rdcd.server.path" | "rdcd.server.pythonPath",
+  raw: string,
+  args: string[],
+  probe: ServerProbe,
+): ServerCommand | ServerNotFound {
+  const found = resolveExecutable(expandPath(raw, probe), probe);
+  if (found === undefined) {
+    return {
+      error: `The RDCD language server was not found: ${setting} is "${raw}", which is not an executable file.`,
+      setting,
+    };
+  }
+  return { command: found, args, source: setting };
+}
+
 /**
  * The order: the rdcd.server.path setting; the rdcd.server.pythonPath setting; the interpreter
  * selected in the Python extension (only when it has the rdcd package); rdcd-lsp on PATH.
@@ -74,26 +91,10 @@ export async function findServerCommand(
 ): Promise<ServerCommand | ServerNotFound> {
   const extra = [...settings.args];
   if (settings.path.trim() !== "") {
-    const path = expandPath(settings.path, probe);
-    const found = resolveExecutable(path, probe);
-    if (found === undefined) {
-      return {
-        error: `The RDCD language server was not found: rdcd.server.path is "${settings.path}", which is not an executable file.`,
-        setting: "rdcd.server.path",
-      };
-    }
-    return { command: found, args: extra, source: "rdcd.server.path" };
+    return fromSetting("rdcd.server.path", settings.path, extra, probe);
   }
   if (settings.pythonPath.trim() !== "") {
-    const python = expandPath(settings.pythonPath, probe);
-    const found = resolveExecutable(python, probe);
-    if (found === undefined) {
-      return {
-        error: `The RDCD language server was not found: rdcd.server.pythonPath is "${settings.pythonPath}", which is not an executable file.`,
-        setting: "rdcd.server.pythonPath",
-      };
-    }
-    return { command: found, args: ["-m", SERVER_MODULE, ...extra], source: "rdcd.server.pythonPath" };
+    return fromSetting("rdcd.server.pythonPath", settings.pythonPath, ["-m", SERVER_MODULE, ...extra], probe);
   }
   const selected = probe.selectedPython;
   if (selected !== undefined && selected !== "" && (await probe.canRunServerModule(selected))) {
