@@ -35,7 +35,15 @@ def run_case(case: tuple[str, str, float, int, float]) -> dict:
     import_pybullet()
     from sim.config import load_config
     from sim.run import Options, simulate
-    from sim.scenario import forward_at_end, judge_obstacle, judge_straight, reverse_spans, turn_deg
+    from sim.scenario import (
+        forward_at_end,
+        heading_deviation,
+        judge_obstacle,
+        judge_straight,
+        no_reverse_left,
+        reverse_spans,
+        turn_deg,
+    )
 
     config, obstacle, duration, seed, loss = case
     structure = load_config(config)
@@ -43,11 +51,8 @@ def run_case(case: tuple[str, str, float, int, float]) -> dict:
     report = simulate(compile_program(), structure, options)
     checks = (judge_straight if obstacle == "none" else judge_obstacle)(report, structure)
     first = next((e["t"] for e in report["events"] if e["kind"] == "handler"), None)
-    end = "reversing" if any((m["final_role"] or "").startswith("Reverse") for m in report["modules"]) \
-        else "forward" if forward_at_end(report) else "other"
-    traj = report["trajectory"]
-    turn = turn_deg(report) if obstacle != "none" else \
-        max((abs((p[3] - traj[0][3] + 180) % 360 - 180) for p in traj), default=0.0)
+    end = "reversing" if not no_reverse_left(report) else "forward" if forward_at_end(report) else "other"
+    turn = turn_deg(report) if obstacle != "none" else heading_deviation(report["trajectory"])
     spans = " ".join(f"{a:.0f}-{'end' if b is None else f'{b:.0f}'}" for a, b in reverse_spans(report))
     return {"case": case, "checks": checks, "turn": turn, "end": end, "spans": spans or "-",
             "detect_t": first, "min_d": report["min_obstacle_distance_m"], "rtf": report["real_time_factor"],

@@ -31,8 +31,9 @@ from rdcd_core.frontend import check_text  # noqa: E402
 from sim import params  # noqa: E402
 from sim.config import load_config, random_structure  # noqa: E402
 from sim.obstacles import parse_obstacle  # noqa: E402
-from sim.run import role_table  # noqa: E402
+from sim.run import inject_program, role_table  # noqa: E402
 from sim.world import PhysicsWorld  # noqa: E402
+from vm.isa.assembler import assemble  # noqa: E402
 from vm.roles import RoleTable  # noqa: E402
 
 
@@ -46,8 +47,7 @@ def car(name: str, seconds: float) -> tuple[str, float, float, int]:
     world = PhysicsWorld(load_config(name), obstacles=parse_obstacle("wall:1.0"))
     try:
         runtimes = world.add_runtimes(role_table(program), seed=0)
-        for fragment in program.injection:
-            runtimes[world.structure.entry].inject(program.fragment(fragment).code)
+        inject_program(program, runtimes[world.structure.entry].inject)
         wall, cpu = time.perf_counter(), time.process_time()
         world.advance(seconds)
         return (f"{name} obstacle program", seconds / (time.perf_counter() - wall),
@@ -61,7 +61,7 @@ def random100(seconds: float) -> tuple[str, float, float, int]:
     world = PhysicsWorld(structure)
     try:
         runtimes = world.add_runtimes(RoleTable(), seed=0)
-        runtimes[structure.entry].inject(bytes([18]))  # MIGRATE_CONTINUE
+        runtimes[structure.entry].inject(assemble("MIGRATE_CONTINUE"))
         wall, cpu = time.perf_counter(), time.process_time()
         world.advance(seconds)
         return ("random 100 modules, diffusion", seconds / (time.perf_counter() - wall),

@@ -125,9 +125,7 @@ def run(args: argparse.Namespace) -> int:
                       progress=_progress_bar(), realtime=args.gui)
     try:
         report = simulate(program, structure, options)
-    except RobotError as e:
-        return _fail(str(e))
-    except RuntimeError as e:
+    except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui
         return _fail(str(e))
     from sim.report import summary
 

@@ -39,11 +39,6 @@ def physical_side(spec: ModuleSpec, physical: int) -> int:
     return virtual_side(spec.mount.virtual_of(physical))
 
 
-def north_side(spec: ModuleSpec) -> int:
-    """The virtual hemisphere holding the module's physical north hemisphere (connectors 0-3)."""
-    return physical_side(spec, 0)
-
-
 def connector_direction(axis: int, vch: int) -> Vec3:
     """Unit vector, in the module's lattice frame, of the connector at virtual channel ``vch``."""
     dx, dy, dz = navigation.offset(axis, vch)

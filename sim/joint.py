@@ -12,10 +12,7 @@ import math
 import pybullet as pb
 
 from sim import params
-
-
-def wrap_deg(angle: float) -> float:
-    return (angle + 180.0) % 360.0 - 180.0
+from vm.lattice.joint import wrap
 
 
 class PhysicsJoint:
@@ -47,7 +44,7 @@ class PhysicsJoint:
                                      force=params.JOINT_MAX_TORQUE, physicsClientId=self.client)
 
     def angle_deg(self) -> float:
-        return wrap_deg(math.degrees(self.angle))
+        return wrap(math.degrees(self.angle))
 
     def is_turning(self) -> bool:
         if self.target is not None:
@@ -65,7 +62,7 @@ class PhysicsJoint:
         self.update()
 
     def rotate_to(self, angle_deg: float) -> None:
-        delta = wrap_deg(angle_deg - self.angle_deg())
+        delta = wrap(angle_deg - self.angle_deg())
         self.rotate_by(180.0 if delta == -180.0 else delta)
 
     def stop(self) -> None:

@@ -36,9 +36,13 @@ SHELL_FRICTION = 0.4  # hard plastic shell
 GROUND_FRICTION = 1.0
 RESTITUTION = 0.0
 SPAWN_CLEARANCE = 0.001  # m above the ground at start
+# The multibody's base: a tiny anchor fixed to the entry module's rigid group (sim/robot.py).
+ANCHOR_MASS = 0.001  # kg
+ANCHOR_INERTIA = 1e-6  # kg·m², each principal moment
 
 # --- infrared sensors and links -----------------------------------------------------------
 IR_RANGE = 0.15  # m from the module surface
+IR_SENSOR_OFFSET = 0.002  # m: a sensor's rays start this far out from the shell, under its connector
 IR_CONE_HALF_ANGLE_DEG = 20.0
 IR_RAYS = 7  # one central ray plus a ring of IR_RAYS - 1 at the cone edge
 IR_RATE_HZ = 20.0  # proximity sampling rate

@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Rectangle  # noqa: E402
 
 from sim import params  # noqa: E402
+from sim.geometry import lattice_to_world  # noqa: E402
 from sim.report import heading_change  # noqa: E402
 from sim.scenario import reverse_spans  # noqa: E402
 from vm.lattice.structure import Structure  # noqa: E402
@@ -36,10 +37,8 @@ def _draw_car(ax: Any, report: dict[str, Any], pose: list[float], colours: dict[
     start = report["trajectory"][0]
     cx0, cy0 = start[1], start[2]
     for m in report["modules"]:
-        x, y = m["lattice"][0] * params.LATTICE_UNIT - cx0, m["lattice"][1] * params.LATTICE_UNIT - cy0
-        xy0 = report.get("module_start_xy", {}).get(str(m["id"]))
-        if xy0:
-            x, y = xy0[0] - cx0, xy0[1] - cy0
+        xy0 = report.get("module_start_xy", {}).get(str(m["id"])) or lattice_to_world(m["lattice"])
+        x, y = xy0[0] - cx0, xy0[1] - cy0
         dx, dy = _rotate(x, y, pose[3] - start[3])
         ax.add_patch(Circle((pose[1] + dx, pose[2] + dy), params.MODULE_RADIUS, alpha=alpha,
                             facecolor=colours[m["final_role"]], edgecolor="black", linewidth=0.4, zorder=3))

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import pybullet as pb
+from matplotlib.colors import to_rgb
 from PIL import Image
 
 from sim.plot import ROLE_COLOURS
@@ -17,10 +18,7 @@ WIDTH, HEIGHT = 320, 240
 FRAME_EVERY_S = 0.5  # one frame per run chunk
 FRAME_MS = 100  # playback: 5× faster than simulated time
 MAX_FRAMES = 400
-
-_RGB = {"tab:blue": (31, 119, 180), "tab:orange": (255, 127, 14), "tab:green": (44, 160, 44),
-        "tab:purple": (148, 103, 189), "tab:brown": (140, 86, 75), "tab:pink": (227, 119, 194),
-        "tab:olive": (188, 189, 34), "tab:cyan": (23, 190, 207)}
+NO_ROLE_RGB = (215 / 255, 215 / 255, 215 / 255)
 
 
 class GifRecorder:
@@ -30,7 +28,7 @@ class GifRecorder:
         self.frames: list[Image.Image] = []
         self._shown: dict[int, int] = {}
         names = sorted(roles.names.values())
-        self._colour = {name: _RGB[ROLE_COLOURS[i % len(ROLE_COLOURS)]] for i, name in enumerate(names)}
+        self._colour = {name: to_rgb(ROLE_COLOURS[i % len(ROLE_COLOURS)]) for i, name in enumerate(names)}
 
     def _paint_roles(self) -> None:
         w = self.world
@@ -39,10 +37,10 @@ class GifRecorder:
                 continue
             self._shown[mid] = runtime.role
             name = self.roles.name(runtime.role) if runtime.role else None
-            rgb = self._colour.get(name or "", (215, 215, 215))
+            rgb = self._colour.get(name or "", NO_ROLE_RGB)
             link, shape = w.robot.shell_visual[mid]
-            pb.changeVisualShape(w.robot.body, link, shapeIndex=shape,
-                                 rgbaColor=[c / 255 for c in rgb] + [1.0], physicsClientId=w.client)
+            pb.changeVisualShape(w.robot.body, link, shapeIndex=shape, rgbaColor=[*rgb, 1.0],
+                                 physicsClientId=w.client)
 
     def capture(self) -> None:
         if len(self.frames) >= MAX_FRAMES:

@@ -7,6 +7,7 @@ from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from rdcd_core.compiler.program import CompiledProgram
+from vm.lattice.joint import wrap
 from vm.lattice.structure import AXIS_NAMES, Structure
 from vm.roles import NO_ROLE, RoleTable
 
@@ -61,7 +62,7 @@ def heading_change(trajectory: list[list[float]]) -> float | None:
     """Final heading minus initial heading, in -180..180 degrees."""
     if len(trajectory) < 2:
         return None
-    return (trajectory[-1][3] - trajectory[0][3] + 180.0) % 360.0 - 180.0
+    return wrap(trajectory[-1][3] - trajectory[0][3])
 
 
 def distance(trajectory: list[list[float]]) -> float | None:

@@ -3,11 +3,11 @@
 Hemispheres joined by connections are rigidly attached, so each set of hemispheres glued
 together by connections (a *rigid group*) is one link with a compound collision shape; the
 modules' motorised revolute joints join the groups. The groups are walked as a spanning tree from
-the entry module; a joint that would close a loop of groups becomes a pair of point-to-point
-constraints along its axis (a free hinge, not motorised). A module whose two hemispheres lie in
-one group is locked. The base is a tiny massless-ish anchor fixed to the entry's group, so every
-group is a link whose frame PyBullet reports directly. Link frames are aligned with the lattice
-frame at start, so a link's world orientation is the rotation it made since the start.
+the entry module; a joint that would close a loop of groups is locked (its two groups merge), as
+is a module whose two hemispheres lie in one group. The base is a tiny massless-ish anchor fixed
+to the entry's group, so every group is a link whose frame PyBullet reports directly. Link
+frames are aligned with the lattice frame at start, so a link's world orientation is the rotation
+it made since the start.
 
 Joint angle convention (shared with ``sim.joint``): positive = the physical south hemisphere
 (connectors 4-7) turns clockwise seen from the north pole, i.e. about the vector from the centre
@@ -52,7 +52,6 @@ class ModuleBody:
 class Robot:
     body: int
     modules: dict[int, ModuleBody]
-    constraints: list[int]
     lift: float
     link_count: int
     shell_visual: dict[int, tuple[int, int]]  # module -> (link, visual shape index) of its sphere
@@ -64,12 +63,10 @@ def wheel_side(structure: Structure, module_id: int) -> int:
     A wheel is a module with a horizontal axis whose other hemisphere carries all connections.
     """
     spec = structure.modules[module_id]
-    if spec.axis == navigation.UP_DOWN:
+    free = structure.free_hemisphere(module_id)
+    if spec.axis == navigation.UP_DOWN or free is None:
         return 0
-    sides = {g.physical_side(spec, p) for p in structure.neighbours(module_id)}
-    if len(sides) != 1:
-        return 0
-    return -sides.pop()
+    return g.physical_side(spec, 4 * free)
 
 
 def rigid_groups(structure: Structure) -> dict[Node, int]:
@@ -101,7 +98,6 @@ def rigid_groups(structure: Structure) -> dict[Node, int]:
 class _Plan:
     order: list[int]  # groups in depth-first order, root first
     parent_joint: dict[int, tuple[int, int]]  # group -> (parent group, module whose joint joins them)
-    locked: list[int]  # modules whose joint cannot turn: both hemispheres end up in one group
 
 
 def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
@@ -128,8 +124,6 @@ def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
                 merged[max(a, b)] = min(a, b)
     for node in groups:  # callers see the merged groups
         groups[node] = find(groups[node])
-    locked = [mid for mid in sorted(structure.modules)
-              if groups[(mid, g.PLUS)] == groups[(mid, g.MINUS)]]
     root = groups[(structure.entry, g.PLUS)]
     children: dict[int, list[int]] = {}
     for child, (par, _) in sorted(parent_joint.items()):
@@ -139,7 +133,7 @@ def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
         grp = stack.pop()
         order.append(grp)
         stack.extend(reversed(children.get(grp, [])))
-    return _Plan(order, parent_joint, locked)
+    return _Plan(order, parent_joint)
 
 
 def _spanning_tree(structure: Structure, groups: dict[Node, int],
@@ -194,10 +188,9 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
     for grp, (_, mid) in plan.parent_joint.items():
         origin[grp] = modules[mid].centre0
     link_of = {grp: i for i, grp in enumerate(plan.order)}
-    cols, vis, pos, inert_pos, inert_orn, masses, inertias, parents, types, axes, rings = (
-        [] for _ in range(11))
+    cols, vis, pos, inert_pos, inert_orn, masses, inertias, parents, types, axes = ([] for _ in range(10))
     shell_visual: dict[int, tuple[int, int]] = {}
-    ring_modules: dict[int, int] = {}
+    ring_axes: dict[int, int] = {}  # link -> axis of the wheel whose ring it carries
     for i, grp in enumerate(plan.order):
         parts = [_part(structure, modules, node, origin[grp]) for node in members[grp]]
         shown = 0
@@ -206,9 +199,9 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
             modules[mid].offsets[side] = g.sub(modules[mid].centre0, origin[grp])
             if part.kind == "shell":
                 shell_visual[mid] = (i, shown)
+            elif part.kind == "ring":
+                ring_axes[i] = part.axis
             shown += part.kind != "none"
-        rings.append(any(p.kind == "ring" for p in parts))
-        ring_modules[i] = members[grp][0][0]
         cols.append(sh.compound_collision(parts, client))
         vis.append(sh.compound_visual(parts, client) if visuals else -1)
         mass, com, diag, orn = sh.mass_properties(parts)
@@ -231,7 +224,7 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
         modules[mid].joint = i
     n = len(plan.order)
     body = pb.createMultiBody(
-        baseMass=0.001, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1,
+        baseMass=params.ANCHOR_MASS, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1,
         basePosition=origin[plan.order[0]],
         linkMasses=masses, linkCollisionShapeIndices=cols, linkVisualShapeIndices=vis,
         linkPositions=pos, linkOrientations=[(0, 0, 0, 1)] * n, linkInertialFramePositions=inert_pos,
@@ -239,11 +232,21 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
         linkJointTypes=types, linkJointAxis=axes, physicsClientId=client)
     if body < 0 or pb.getNumJoints(body, physicsClientId=client) != n:
         raise RobotError(f"{structure.name or 'structure'}: PyBullet could not build the body")
-    robot = Robot(body, modules, [], lift, n, shell_visual)
-    pb.changeDynamics(body, -1, localInertiaDiagonal=(1e-6, 1e-6, 1e-6), physicsClientId=client)
-    for i, (diag, ring) in enumerate(zip(inertias, rings, strict=True)):
+    pb.changeDynamics(body, -1, localInertiaDiagonal=(params.ANCHOR_INERTIA,) * 3, physicsClientId=client)
+    _set_dynamics(body, inertias, ring_axes, client)
+    for mb in modules.values():
+        if mb.joint is not None:
+            pb.setJointMotorControl2(body, mb.joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
+                                     force=params.JOINT_MAX_TORQUE, physicsClientId=client)
+    return Robot(body, modules, lift, n, shell_visual)
+
+
+def _set_dynamics(body: int, inertias: list[g.Vec3], ring_axes: dict[int, int], client: int) -> None:
+    """Inertia and contact of every link; ``ring_axes`` gives the axis of each link with a ring."""
+    for i, diag in enumerate(inertias):
+        ring = i in ring_axes
         if ring and params.RING_AXIAL_FRICTION_SCALE != 1.0:
-            axis = g.AXIS_VECTORS[structure.modules[ring_modules[i]].axis]
+            axis = g.AXIS_VECTORS[ring_axes[i]]
             scale = tuple(params.RING_AXIAL_FRICTION_SCALE if a else 1.0 for a in axis)
             pb.changeDynamics(body, i, anisotropicFriction=scale, physicsClientId=client)
         pb.changeDynamics(body, i, localInertiaDiagonal=diag, restitution=params.RESTITUTION,
@@ -252,11 +255,6 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
                           spinningFriction=params.RING_SPINNING_FRICTION if ring else 0.0,
                           linearDamping=0.0, angularDamping=0.0, jointDamping=params.JOINT_DAMPING,
                           physicsClientId=client)
-    for mb in modules.values():
-        if mb.joint is not None:
-            pb.setJointMotorControl2(body, mb.joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
-                                     force=params.JOINT_MAX_TORQUE, physicsClientId=client)
-    return robot
 
 
 def _part(structure: Structure, modules: dict[int, ModuleBody], node: Node, origin: g.Vec3) -> sh.Part:

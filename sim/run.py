@@ -20,6 +20,7 @@ from vm.roles import RoleTable
 
 Progress = Callable[[float, float], None]  # (simulated seconds done, total)
 CHUNK_S = 0.5
+MAX_OBSTACLE_CELLS = 200_000  # larger boxes are not enumerated into lattice cells
 
 
 @dataclass
@@ -75,7 +76,8 @@ def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int
     return record
 
 
-def _inject(program: CompiledProgram, inject: Callable[[bytes], None]) -> None:
+def inject_program(program: CompiledProgram, inject: Callable[[bytes], None]) -> None:
+    """Enter the program's fragments in the order of the compiler's injection plan."""
     for name in program.injection:
         inject(program.fragment(name).code)
 
@@ -109,14 +111,14 @@ def _run_physics(program: CompiledProgram, structure: Structure, roles: RoleTabl
             runtime.on_event = _recorder(events, lambda: world.time, mid)
         world.on_detection = lambda mid, k: events.append(
             {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
-        _inject(program, runtimes[structure.entry].inject)
+        inject_program(program, runtimes[structure.entry].inject)
         starts = {mid: (float(c[0]), float(c[1])) for mid, c in world.module_centres().items()}
         recorder = None
         if options.record:
             from sim.record import GifRecorder
             recorder = GifRecorder(world, roles)
         _chunks(options, world.advance, recorder.capture if recorder else None)
-        if recorder and options.record:
+        if recorder:
             recorder.save(options.record)
         return RunResult(runtimes, events, world.network.counters.as_dict(), world.tracking, boxes, starts)
     finally:
@@ -131,7 +133,7 @@ def _lattice_cells(boxes: list[Box], structure: Structure) -> frozenset[tuple[in
     for box in boxes:
         x0, x1 = round((box.x - box.w / 2) / u), round((box.x + box.w / 2) / u)
         y0, y1 = round((box.y - box.l / 2) / u), round((box.y + box.l / 2) / u)
-        if (x1 - x0 + 1) * (y1 - y0 + 1) * len(zs) > 200_000:
+        if (x1 - x0 + 1) * (y1 - y0 + 1) * len(zs) > MAX_OBSTACLE_CELLS:
             continue  # too large to enumerate; nothing in a static lattice reaches it anyway
         cells.update((x, y, z) for x in range(x0, x1 + 1) for y in range(y0, y1 + 1) for z in zs)
     return frozenset(cells)
@@ -142,10 +144,12 @@ def _run_lattice(program: CompiledProgram, structure: Structure, roles: RoleTabl
     from vm.lattice.world import LatticeWorld
 
     world = LatticeWorld(structure, roles, seed=options.seed, packet_loss=options.packet_loss,
+                         latency_s=params.IR_LATENCY_S,
+                         joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
                          obstacles=_lattice_cells(boxes, structure))
     events: list[dict[str, Any]] = []
     for mid, runtime in world.runtimes.items():
         runtime.on_event = _recorder(events, world.now, mid)
-    _inject(program, world.inject)
+    inject_program(program, world.inject)
     _chunks(options, world.advance)
     return RunResult(world.runtimes, events, world.counters.as_dict(), None, boxes)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from vm.lattice.joint import wrap
 from vm.lattice.structure import Structure
 
 MIN_TURN_DEG = 15.0
@@ -60,10 +61,6 @@ def _window(traj: list[list[float]], t0: float, t1: float) -> list[list[float]]:
     return [p for p in traj if t0 <= p[0] <= t1]
 
 
-def _wrap(deg: float) -> float:
-    return (deg + 180.0) % 360.0 - 180.0
-
-
 def drove_forward(report: dict[str, Any]) -> bool:
     """Before the first manoeuvre (or in the whole run) the centre got FORWARD_MIN_M further along +y."""
     traj = report["trajectory"]
@@ -99,7 +96,12 @@ def turn_deg(report: dict[str, Any]) -> float | None:
     if not traj or not spans:
         return None
     before = _window(traj, 0.0, spans[0][0])
-    return _wrap(traj[-1][3] - (before[-1] if before else traj[0])[3])
+    return wrap(traj[-1][3] - (before[-1] if before else traj[0])[3])
+
+
+def heading_deviation(traj: list[list[float]]) -> float:
+    """Largest |heading - initial heading| over the run, in degrees (0 for an empty trajectory)."""
+    return max((abs(wrap(p[3] - traj[0][3])) for p in traj), default=0.0)
 
 
 def judge_obstacle(report: dict[str, Any], structure: Structure) -> dict[str, bool]:
@@ -117,11 +119,9 @@ def judge_obstacle(report: dict[str, Any], structure: Structure) -> dict[str, bo
 
 def judge_straight(report: dict[str, Any], structure: Structure) -> dict[str, bool]:
     """Largest heading deviation from the start, over the whole run, stays under STRAIGHT_MAX_DEG."""
-    traj = report["trajectory"]
-    turn = max((abs(_wrap(p[3] - traj[0][3])) for p in traj), default=0.0)
     return {
         "roles": final_roles_ok(report, structure),
         "drove_forward": drove_forward(report),
-        "straight": abs(turn) < STRAIGHT_MAX_DEG,
+        "straight": heading_deviation(report["trajectory"]) < STRAIGHT_MAX_DEG,
         "no_detection": report["obstacle_detections"] == 0,
     }

@@ -14,6 +14,7 @@ import pybullet as pb
 
 from sim import geometry as g
 from sim import params
+from sim.poses import link_poses
 from sim.robot import Robot
 from vm.lattice.structure import Structure
 
@@ -33,15 +34,6 @@ def cone(direction: g.Vec3, rays: int, half_angle_deg: float) -> np.ndarray:
     return np.array(out)
 
 
-def quat_matrix(q: tuple[float, float, float, float]) -> np.ndarray:
-    x, y, z, w = q
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
-
-
 class Sensors:
     def __init__(self, structure: Structure, robot: Robot, client: int) -> None:
         self.robot, self.client = robot, client
@@ -56,7 +48,8 @@ class Sensors:
             for k in range(8):
                 side = g.physical_side(spec, k)
                 direction = g.physical_connector_direction(spec, k)
-                origin = np.array(mb.offsets[side]) + np.array(direction) * (params.MODULE_RADIUS + 0.002)
+                out = params.MODULE_RADIUS + params.IR_SENSOR_OFFSET
+                origin = np.array(mb.offsets[side]) + np.array(direction) * out
                 self._rays[(mid, k)] = (mb.links[side], origin,
                                         cone(direction, params.IR_RAYS, params.IR_CONE_HALF_ANGLE_DEG))
 
@@ -65,20 +58,13 @@ class Sensors:
         self.watched.add(key)
         return self.values.get(key, False)
 
-    def link_poses(self, links: set[int]) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-        """World position and rotation matrix of each link's frame."""
-        order = sorted(links)
-        states = pb.getLinkStates(self.robot.body, order, physicsClientId=self.client)
-        return {link: (np.array(state[4]), quat_matrix(state[5]))
-                for link, state in zip(order, states, strict=True)}
-
     def sample(self) -> None:
         """Cast the rays of every watched sensor; record which ones turned on."""
         self.rising = []
         keys = sorted(self.watched)
         if not keys:
             return
-        poses = self.link_poses({self._rays[k][0] for k in keys})
+        poses = link_poses(self.robot.body, {self._rays[k][0] for k in keys}, self.client)
         starts, ends = [], []
         for key in keys:
             link, local, dirs = self._rays[key]

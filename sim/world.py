@@ -20,8 +20,9 @@ from sim import params, quiet
 from sim.hal import PhysicsHal
 from sim.joint import PhysicsJoint
 from sim.obstacles import Box, create_bodies
+from sim.poses import link_poses, quat_matrix
 from sim.robot import Robot, build_robot
-from sim.sensors import Sensors, quat_matrix
+from sim.sensors import Sensors
 from vm.lattice.network import Network
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
@@ -126,7 +127,7 @@ class PhysicsWorld:
     # --- observation -----------------------------------------------------------------------
     def module_centres(self) -> dict[int, np.ndarray]:
         modules = self.robot.modules
-        poses = self.sensors.link_poses({mb.links[1] for mb in modules.values()})
+        poses = link_poses(self.robot.body, {mb.links[1] for mb in modules.values()}, self.client)
         out = {}
         for mid, mb in modules.items():
             pos, m = poses[mb.links[1]]

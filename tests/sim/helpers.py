@@ -9,10 +9,11 @@ from rdcd_core.compiler.program import CompiledProgram
 from rdcd_core.frontend import check_text
 from sim.quiet import import_pybullet
 from tests.conftest import EXAMPLES
+from vm.isa.assembler import assemble
 
 import_pybullet()
 
-MIGRATE_CONTINUE = bytes([18])
+MIGRATE_CONTINUE = assemble("MIGRATE_CONTINUE")
 
 
 @cache

@@ -10,6 +10,7 @@ import pytest
 from sim import geometry as g
 from sim import params
 from sim.config import load_config, random_structure
+from sim.poses import link_poses
 from sim.robot import build_robot, rigid_groups
 from sim.sensors import Sensors
 from sim.shapes import Part, mass_properties, matrix_to_quat
@@ -24,7 +25,7 @@ def _connector_positions(structure) -> dict[tuple[int, int], np.ndarray]:  # noq
     try:
         robot = build_robot(structure, client)
         sensors = Sensors(structure, robot, client)
-        poses = sensors.link_poses({link for link, _, _ in sensors._rays.values()})
+        poses = link_poses(robot.body, {link for link, _, _ in sensors._rays.values()}, client)
         out = {}
         for key, (link, local, _) in sensors._rays.items():
             pos, m = poses[link]
