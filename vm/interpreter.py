@@ -13,7 +13,7 @@ from enum import Enum
 from typing import Protocol
 
 from vm.isa.opcodes import BY_OPCODE, MAX_STACK, MAX_STEPS_PER_RUN, PUSH_SMALL_BASE
-from vm.navigation import DIRECTIONS, DOWN, EAST, EAST_WEST, NORTH, NORTH_SOUTH, SOUTH, UP, UP_DOWN, WEST
+from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
 
 
 def s8(value: int) -> int:
@@ -71,12 +71,16 @@ class VMError(Exception):
     """A runtime error of the running program (caught by ``run``, reported by the runtime)."""
 
 
-_ROLE_DIRS = {36: DOWN, 37: UP, 38: EAST, 39: WEST, 40: NORTH, 41: SOUTH}
-_AXIS_OPS = {1: EAST_WEST, 2: NORTH_SOUTH, 3: UP_DOWN}
-_COMPARE = {22: lambda a, b: a > b, 23: lambda a, b: a < b, 56: lambda a, b: a == b}
-_ARITH = {57: lambda a, b: a + b, 58: lambda a, b: a - b}
-_COORD_CMP = {24: (0, True), 25: (0, False), 26: (1, True), 27: (1, False), 28: (2, True), 29: (2, False)}
-_ENDINGS = {13: Outcome.TERMINATE, 14: Outcome.REPEAT, 18: Outcome.MIGRATE}
+_ROLE_DIRS = {f"CONNECTED_{DIRECTION_NAMES[d]}_ROLE": d for d in DIRECTIONS}
+_AXIS_OPS = {f"CENTER_POSITION_{AXIS_NAMES[a]}": a for a in AXES}
+_EQUALS = {f"EQUALS_{k}": k for k in range(5)}
+_COORDS = {"COORD_X": 0, "COORD_Y": 1, "COORD_Z": 2}
+_COMPARE = {"GREATER": lambda a, b: a > b, "LESSER": lambda a, b: a < b, "EQUALS": lambda a, b: a == b}
+_ARITH = {"ADD": lambda a, b: a + b, "SUB": lambda a, b: a - b}
+_COORD_CMP = {f"COORD_{c}_{cmp}": (i, cmp == "GREATER") for i, c in enumerate("XYZ")
+              for cmp in ("GREATER", "LESSER")}
+_ENDINGS = {"END_TERMINATE": Outcome.TERMINATE, "END_REPEAT": Outcome.REPEAT,
+            "MIGRATE_CONTINUE": Outcome.MIGRATE}
 
 
 def run(frame: Frame, m: Machine) -> Result:
@@ -103,21 +107,22 @@ def _pop(frame: Frame) -> int:
     return frame.stack.pop()
 
 
-def _fetch(frame: Frame) -> tuple[int, tuple[int, ...]]:
+def _fetch(frame: Frame) -> tuple[str, int, tuple[int, ...]]:
+    """(name, opcode, operands) of the instruction at pc; advances pc. A push is named PUSH."""
     code, pc = frame.code, frame.pc
     if not 0 <= pc < len(code):
         raise VMError(f"control left the {len(code)}-byte program")
     op = code[pc]
     if op >= PUSH_SMALL_BASE:
         frame.pc = pc + 1
-        return op, ()
+        return "PUSH", op, ()
     ins = BY_OPCODE.get(op)
     if ins is None:
         raise VMError(f"unknown opcode {op}")
     if pc + ins.size > len(code):
         raise VMError(f"{ins.name} is missing operands")
     frame.pc = pc + ins.size
-    return op, tuple(code[pc + 1: pc + ins.size])
+    return ins.name, op, tuple(code[pc + 1: pc + ins.size])
 
 
 def _embedded(frame: Frame, start: int, size: int) -> bytes:
@@ -134,90 +139,90 @@ def _direction(d: int) -> int:
 
 def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispatch table
     at = frame.pc
-    op, a = _fetch(frame)
+    name, op, a = _fetch(frame)
     if frame.debug:
-        m.trace(frame, f"{at}: {BY_OPCODE[op].name if op < 128 else 'PUSH'} {list(a)} stack={frame.stack}")
-    if op >= PUSH_SMALL_BASE:
+        m.trace(frame, f"{at}: {name} {list(a)} stack={frame.stack}")
+    if name == "PUSH":
         _push(frame, op - PUSH_SMALL_BASE)
-    elif op in _AXIS_OPS:
-        _push(frame, int(m.axis_code() == _AXIS_OPS[op]))
-    elif op == 4:
+    elif name in _AXIS_OPS:
+        _push(frame, int(m.axis_code() == _AXIS_OPS[name]))
+    elif name == "CONNECTED":
         _push(frame, m.connected_virtual())
-    elif op == 5:
+    elif name == "CONNECTED_SIZEOF":
         _push(frame, m.connected_virtual().bit_count())
-    elif 6 <= op <= 10:
-        _push(frame, int(_pop(frame) == op - 6))
-    elif op == 11:
+    elif name in _EQUALS:
+        _push(frame, int(_pop(frame) == _EQUALS[name]))
+    elif name == "CONNECTED_DIR":
         _push(frame, m.connected_virtual() & m.facing(_direction(a[0])))
-    elif op == 12:
+    elif name == "CONNECTED_DIR_SIZEOF":
         _push(frame, (m.connected_virtual() & m.facing(_direction(a[0]))).bit_count())
-    elif op in _ENDINGS:
-        return Result(_ENDINGS[op])
-    elif op in (15, 47):
-        if (_pop(frame) != 0) == (op == 47):
+    elif name in _ENDINGS:
+        return Result(_ENDINGS[name])
+    elif name in ("IF_FALSE_GOTO", "IF_TRUE_GOTO"):
+        if (_pop(frame) != 0) == (name == "IF_TRUE_GOTO"):
             frame.pc = a[0]
-    elif op == 16:
+    elif name == "GOTO":
         frame.pc = a[0]
-    elif op == 17:
+    elif name == "SET_ROLE_NOTIFY":
         m.set_role_notify(a[0])
-    elif 19 <= op <= 21:
-        _push(frame, m.coords()[op - 19])
-    elif op in _COMPARE:
+    elif name in _COORDS:
+        _push(frame, m.coords()[_COORDS[name]])
+    elif name in _COMPARE:
         b = _pop(frame)
-        _push(frame, int(_COMPARE[op](_pop(frame), b)))
-    elif op in _ARITH:
+        _push(frame, int(_COMPARE[name](_pop(frame), b)))
+    elif name in _ARITH:
         b = _pop(frame)
-        _push(frame, _ARITH[op](_pop(frame), b))
-    elif op in _COORD_CMP:
-        axis, greater = _COORD_CMP[op]
+        _push(frame, _ARITH[name](_pop(frame), b))
+    elif name in _COORD_CMP:
+        axis, greater = _COORD_CMP[name]
         value, coord = _pop(frame), m.coords()[axis]
         _push(frame, int(coord > value if greater else coord < value))
-    elif op == 30:
+    elif name == "HANDLE_EVENT":
         if a[0] > 7:
             raise VMError(f"bad event {a[0]}")
         m.handle_event(a[0], _embedded(frame, a[1], a[2]))
-    elif op == 31:
+    elif name == "SEND_COMMAND":
         m.send_command(a[0], a[1], s8(a[2]))
-    elif op == 32:
+    elif name == "CLEAR_EVENT":
         m.clear_event(a[0])
-    elif op == 33:
+    elif name == "EVAL_COMMAND":
         m.eval_command(a[0], s8(a[1]))
-    elif op == 34:
+    elif name == "HAS_ROLE":
         _push(frame, int(m.has_role(a[0])))
-    elif op == 35:
+    elif name == "CONNECTED_ROLE":
         _push(frame, m.connected_role(_direction(a[0]), a[1]))
-    elif op in _ROLE_DIRS:
-        _push(frame, int(m.connected_role(_ROLE_DIRS[op], a[0]) != 0))
-    elif op == 42:
+    elif name in _ROLE_DIRS:
+        _push(frame, int(m.connected_role(_ROLE_DIRS[name], a[0]) != 0))
+    elif name == "INSTALL_COMMAND":
         m.install_command(a[0], a[1], _embedded(frame, a[2], a[3]))
-    elif op == 43:
+    elif name == "SLEEP":
         return Result(Outcome.SLEEP)
-    elif op in (44, 45):
-        m.enable_event(a[0], op == 45)
-    elif op == 46:
+    elif name in ("DISABLE_EVENT", "ENABLE_EVENT"):
+        m.enable_event(a[0], name == "ENABLE_EVENT")
+    elif name == "CLEAR_COMMAND_QUEUE":
         m.clear_command_queue(a[0])
-    elif op == 48:
+    elif name == "SLEEP_ROTATIONS":
         return Result(Outcome.SLEEP_ROTATIONS, turns=s8(a[0]))
-    elif op == 49:
+    elif name == "SIZEOF":
         _push(frame, (_pop(frame) & 0xFF).bit_count())
-    elif op == 50:
+    elif name == "NEGATE":
         _push(frame, -_pop(frame))
-    elif op == 51:
+    elif name == "ACTIVATE_DEBUG":
         frame.debug = True
-    elif op == 52:
+    elif name == "APPLY":
         f = _pop(frame)
         arg = _pop(frame)
         m.eval_command(f & 0xFF, arg)
         _push(frame, 0)
-    elif op == 53:
+    elif name == "PUSH_ARGUMENT":
         _push(frame, frame.arg)
-    elif op == 54:
+    elif name == "PUSHC":
         _push(frame, s8(a[0]))
-    elif op == 55:
+    elif name == "SET_LED":
         m.set_led(s8(a[0]))
-    elif op == 59:
+    elif name == "SEND_COMMAND_STACK_ARG":
         m.send_command(a[0], a[1], _pop(frame))
-    elif op == 60:
+    elif name == "EVAL_COMMAND_STACK_ARG":
         m.eval_command(a[0], _pop(frame))
-    # 127 NOP: nothing
+    # NOP: nothing
     return None

@@ -16,14 +16,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vm.navigation import AXES
+
 PROGRAM = 1
 COMMAND = 2
 NOTIFY = 3
 ACK = 4
 TYPE_NAMES = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack"}
 HEADER_SIZE = 7
-PACKET_BUDGET = 50  # bytes; the hardware IR link became unreliable above this
-MAX_PROGRAM_BYTES = PACKET_BUDGET - HEADER_SIZE
+PACKET_BUDGET = 50  # bytes; the hardware IR link became unreliable above this (dcd-vm.md §2)
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,7 +122,7 @@ def decode(data: bytes) -> Packet | PacketError:
     body = data[HEADER_SIZE:]
     if t not in TYPE_NAMES:
         return PacketError(f"unknown packet type {t}")
-    if t != ACK and (r not in (1, 2, 3) or vch > 7):
+    if t != ACK and (r not in AXES or vch > 7):
         return PacketError(f"bad header: axis {r}, virtual channel {vch}")
     h = Header(t, pid, signed(x), signed(y), signed(z), r, vch)
     if t == PROGRAM:

@@ -38,6 +38,16 @@ from collections.abc import Callable
 from vm import navigation as nav
 from vm.hal import ModuleHal
 from vm.interpreter import Frame, Outcome, Result, run
+from vm.isa.opcodes import (
+    BUILTIN_COMMANDS,
+    ROTATE_CCW,
+    ROTATE_CW,
+    ROTATE_DEGREES,
+    ROTATE_TO,
+    STOP,
+    USER_COMMAND_BASE,
+    USER_COMMAND_NUMBERS,
+)
 from vm.isa.verifier import verify
 from vm.packets import (
     COMMAND,
@@ -61,7 +71,6 @@ from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 COMMAND_MEMORY = 30.0  # seconds a seen command packet is remembered
 MAX_INBOX = 64
 MAX_LOG = 10_000
-BUILTIN_COMMANDS = range(1, 6)
 EventHook = Callable[[str, dict[str, object]], None]
 
 
@@ -318,23 +327,23 @@ class ModuleRuntime:
         """Execute a command here: built-ins drive the joint, user commands queue their program."""
         self._log("command", {"command": command, "arg": arg})
         hal = self.hal
-        if command == 1:
+        if command == ROTATE_CW:
             hal.rotate_continuously(abs(arg) or 1)
-        elif command == 2:
+        elif command == ROTATE_CCW:
             hal.rotate_continuously(-(abs(arg) or 1))
-        elif command == 3:
+        elif command == STOP:
             hal.stop_joint()
-        elif command == 4:
+        elif command == ROTATE_DEGREES:
             hal.rotate_by(10.0 * arg)
-        elif command == 5:
+        elif command == ROTATE_TO:
             hal.rotate_to(10.0 * arg)
-        elif command >= 128:
-            slot = self.store.command_slot(self.role, command - 128)
+        elif command >= USER_COMMAND_BASE:
+            slot = self.store.command_slot(self.role, command - USER_COMMAND_BASE)
             if slot is not None:
                 try:
                     self.store.queue(Task(slot, arg=arg, command=command))
                 except StoreFull as e:
-                    self._error(f"user command {command - 128} not run: {e}")
+                    self._error(f"user command {command - USER_COMMAND_BASE} not run: {e}")
         else:
             self._error(f"unknown command {command}")
 
@@ -400,14 +409,14 @@ class ModuleRuntime:
     def eval_command(self, command: int, arg: int) -> None:
         if command in BUILTIN_COMMANDS:
             self._run_command(command, arg)
-        elif command >= 128:
+        elif command >= USER_COMMAND_BASE:
             self._queue_command(command, arg)
         else:
             self._error(f"unknown command {command}")
 
     def install_command(self, role: int, command: int, code: bytes) -> None:
-        k = command - 128
-        if not 0 <= k < 5:
+        k = command - USER_COMMAND_BASE
+        if command not in USER_COMMAND_NUMBERS:
             self._error(f"INSTALL_COMMAND: {command} is not a user command 128..132")
             return
         targets = self.roles.roles_instance_of(role)

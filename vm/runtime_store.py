@@ -8,12 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from vm.interpreter import Frame
+from vm.isa.opcodes import PROGRAM_SLOTS, SLOT_BYTES, USER_COMMANDS
 
-SLOTS = 10
-SLOT_BYTES = 64
+SLOTS = PROGRAM_SLOTS
 QUEUE = 10
 VECTORS = 8
-USER_COMMANDS = 5
 PROGRAM, HANDLER, USER_COMMAND = "program", "handler", "command"
 
 

@@ -14,10 +14,11 @@ from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item, Label
 from rdcd_core.compiler.roletable import application_name
-from rdcd_core.compiler.stmtgen import USER_COMMAND_BASE, body_of, statement, statements
+from rdcd_core.compiler.stmtgen import body_of, statement, statements
 from rdcd_core.semantics.model import MethodSymbol, Model
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
+from vm.isa.opcodes import USER_COMMAND_BASE
 
 
 @dataclass(slots=True)

@@ -11,10 +11,11 @@ from rdcd_core.compiler.fold import fold, type_of
 from rdcd_core.compiler.geometry import ROLE_DIRECTION_OPS
 from rdcd_core.compiler.ir import Ins, Item, Label
 from rdcd_core.syntax import ast
-from rdcd_core.types import Type
+from rdcd_core.types import PREDEFINED_VALUES, Type
 
 COORDS = {"x": "X", "y": "Y", "z": "Z"}
-AXIS_OPS = {1: "CENTER_POSITION_EW", 2: "CENTER_POSITION_NS", 3: "CENTER_POSITION_UD"}
+AXIS_OPS = {PREDEFINED_VALUES[name].code: f"CENTER_POSITION_{short}"  # axis code -> its test
+            for name, short in (("EAST_WEST", "EW"), ("NORTH_SOUTH", "NS"), ("UP_DOWN", "UD"))}
 MIRROR = {"<": ">", ">": "<", "<=": ">=", ">=": "<=", "==": "==", "!=": "!="}
 
 
@@ -65,14 +66,15 @@ def materialize(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
     """A boolean (or an axis) as 0/1 (or its code) through branches."""
     end = Label("end")
     if type_of(expr, ctx) is Type.AXIS:
-        for axis in (1, 2):
+        *tested, last = AXIS_OPS  # the last axis is what is left when the others fail
+        for axis in tested:
             skip = Label()
             emit(out, AXIS_OPS[axis], span=expr.span)
             emit(out, "IF_FALSE_GOTO", skip, span=expr.span)
             emit(out, "PUSH", axis, span=expr.span)
             emit(out, "GOTO", end, span=expr.span)
             out.append(skip)
-        emit(out, "PUSH", 3, span=expr.span)
+        emit(out, "PUSH", last, span=expr.span)
     else:
         false = Label("false")
         cjump(expr, false, False, ctx, out)

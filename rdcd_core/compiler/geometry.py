@@ -1,30 +1,20 @@
-"""Which virtual channels face which direction, per axis (dcd-vm.md §5). Copied from the table
-of the spec because rdcd_core may import only ``vm.isa`` of the VM."""
+"""Which virtual channels face which direction, per axis (dcd-vm.md §5), and the local states
+discovery reasons over. The channel table is the checker's (``semantics.statespace``): rdcd_core
+may import only ``vm.isa`` of the VM, so it cannot read ``vm.navigation``."""
 
 from __future__ import annotations
 
-EW, NS, UD = 1, 2, 3
-OFFSETS: dict[int, tuple[tuple[int, int, int], ...]] = {
-    NS: ((0, 1, 1), (-1, 1, 0), (0, 1, -1), (1, 1, 0), (0, -1, 1), (-1, -1, 0), (0, -1, -1), (1, -1, 0)),
-    EW: ((1, 0, 1), (1, 1, 0), (1, 0, -1), (1, -1, 0), (-1, 0, 1), (-1, 1, 0), (-1, 0, -1), (-1, -1, 0)),
-    UD: ((0, 1, 1), (1, 0, 1), (0, -1, 1), (-1, 0, 1), (0, 1, -1), (1, 0, -1), (0, -1, -1), (-1, 0, -1)),
-}
-# direction code -> (coordinate index, sign)
-DIRECTIONS: dict[int, tuple[int, int]] = {4: (0, 1), 5: (0, -1), 6: (1, 1), 7: (1, -1), 8: (2, 1), 9: (2, -1)}
-DIRECTION_NAMES = {4: "EAST", 5: "WEST", 6: "NORTH", 7: "SOUTH", 8: "UP", 9: "DOWN"}
-ROLE_DIRECTION_OPS = {9: "CONNECTED_DOWN_ROLE", 8: "CONNECTED_UP_ROLE", 4: "CONNECTED_EAST_ROLE",
-                      5: "CONNECTED_WEST_ROLE", 6: "CONNECTED_NORTH_ROLE", 7: "CONNECTED_SOUTH_ROLE"}
+from rdcd_core.semantics.statespace import AXES, FACING
+from rdcd_core.types import PREDEFINED_VALUES, Type
+
+DIRECTION_NAMES = {v.code: name for name, v in PREDEFINED_VALUES.items() if v.type is Type.DIR}
+ROLE_DIRECTION_OPS = {code: f"CONNECTED_{name}_ROLE" for code, name in DIRECTION_NAMES.items()}
 
 
 def facing(axis: int, direction: int) -> int:
     """The connset of channels of a module with ``axis`` that face ``direction``."""
-    index, sign = DIRECTIONS[direction]
-    mask = 0
-    for channel, offset in enumerate(OFFSETS[axis]):
-        if offset[index] * sign > 0:
-            mask |= 1 << channel
-    return mask
+    return FACING[(axis, direction)]
 
 
-LOCAL_STATES: tuple[tuple[int, int], ...] = tuple((axis, c) for axis in (EW, NS, UD) for c in range(256))
+LOCAL_STATES: tuple[tuple[int, int], ...] = tuple((axis, c) for axis in AXES for c in range(256))
 ALL_STATES = (1 << len(LOCAL_STATES)) - 1

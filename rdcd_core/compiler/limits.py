@@ -5,10 +5,11 @@ from __future__ import annotations
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.entry import behaviour_numbers, methods_of
-from rdcd_core.compiler.program import COMMAND_TABLE_SIZE, MAX_ROLE_IDS, PROGRAM_SLOTS
+from rdcd_core.compiler.program import COMMAND_TABLE_SIZE, MAX_ROLE_IDS
 from rdcd_core.compiler.roletable import RoleTable
 from rdcd_core.semantics.model import Model
 from rdcd_core.syntax import ast
+from vm.isa.opcodes import PROGRAM_SLOTS
 
 
 def role_id_limit(model: Model, table: RoleTable) -> list[diag.Diagnostic]:

@@ -6,14 +6,14 @@ from dataclasses import dataclass, field
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.source import Span
+from vm.isa.opcodes import SLOT_BYTES, USER_COMMANDS
 
 HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
 DEFAULT_PACKET_BUDGET = 50
 PROGRAM_BUDGET = DEFAULT_PACKET_BUDGET - HEADER_BYTES
-MAX_PROGRAM_BYTES = 64  # a program store slot (dcd-vm.md §1)
+MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (dcd-vm.md §1)
 MAX_ROLE_IDS = 14
-COMMAND_TABLE_SIZE = 5
-PROGRAM_SLOTS = 10
+COMMAND_TABLE_SIZE = USER_COMMANDS
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,9 +8,7 @@ import re
 from rdcd_core.compiler.geometry import DIRECTION_NAMES
 from rdcd_core.compiler.program import HEADER_BYTES, CompiledProgram, Fragment
 from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble
-from vm.isa.opcodes import Operand
-
-BUILTIN_COMMANDS = {1: "ROTATE_CW", 2: "ROTATE_CCW", 3: "STOP", 4: "ROTATE_DEGREES", 5: "ROTATE_TO"}
+from vm.isa.opcodes import BUILTIN_COMMANDS, USER_COMMAND_BASE, Operand
 
 
 def to_json(program: CompiledProgram) -> dict[str, object]:
@@ -58,7 +56,9 @@ def operand_text(kind: Operand, value: int, roles: dict[int, str], base: int) ->
     if kind is Operand.EVENT:
         return f"EVENT_PROXIMITY_{value}"
     if kind is Operand.COMMAND:
-        return BUILTIN_COMMANDS.get(value, f"USER_{value - 128}" if value >= 128 else str(value))
+        if value >= USER_COMMAND_BASE:
+            return f"USER_{value - USER_COMMAND_BASE}"
+        return BUILTIN_COMMANDS.get(value, str(value))
     if kind is Operand.TARGET:
         return f"L{base + value}"
     if kind is Operand.START:

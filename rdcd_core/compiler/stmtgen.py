@@ -10,11 +10,10 @@ from rdcd_core.compiler.fold import fold
 from rdcd_core.compiler.ir import Body, Item, Label
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.syntax import ast
+from vm.isa.opcodes import ROTATE_CCW, ROTATE_CW, ROTATE_DEGREES, ROTATE_TO, STOP, USER_COMMAND_BASE
 
 QUERIES = {"center_position", "total_connected", "connected", "x", "y", "z"}
 EVENT_OPS = {"disableEvent": "DISABLE_EVENT", "enableEvent": "ENABLE_EVENT", "clearEvent": "CLEAR_EVENT"}
-CMD_CW, CMD_CCW, CMD_STOP, CMD_DEGREES, CMD_TO = 1, 2, 3, 4, 5
-USER_COMMAND_BASE = 128
 # Inlining nests a method's body inside its caller's; code generation recurses over the nesting,
 # so the bodies inlined into one another may add at most as many levels as one parsed tree has.
 MAX_INLINED_NESTING = 100
@@ -119,11 +118,11 @@ def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object)
     if speed is None:
         return
     if speed > 0:
-        emit(out, "EVAL_COMMAND", CMD_CW, speed, span=span)
+        emit(out, "EVAL_COMMAND", ROTATE_CW, speed, span=span)
     elif speed < 0:
-        emit(out, "EVAL_COMMAND", CMD_CCW, -speed, span=span)
+        emit(out, "EVAL_COMMAND", ROTATE_CCW, -speed, span=span)
     else:
-        emit(out, "EVAL_COMMAND", CMD_STOP, 0, span=span)
+        emit(out, "EVAL_COMMAND", STOP, 0, span=span)
 
 
 def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object) -> None:
@@ -132,18 +131,18 @@ def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object)
     backwards, stop, end = Label("ccw"), Label("stop"), Label("end")
     cjump(ast.Binary(">", speed, zero, speed.span, speed.span), backwards, False, ctx, out)
     value(speed, ctx, out)
-    emit(out, "PUSH", CMD_CW, span=span)
+    emit(out, "PUSH", ROTATE_CW, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(backwards)
     cjump(ast.Binary("<", speed, zero, speed.span, speed.span), stop, False, ctx, out)
     value(speed, ctx, out)
     emit(out, "NEGATE", span=span)
-    emit(out, "PUSH", CMD_CCW, span=span)
+    emit(out, "PUSH", ROTATE_CCW, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(stop)
-    emit(out, "EVAL_COMMAND", CMD_STOP, 0, span=span)
+    emit(out, "EVAL_COMMAND", STOP, 0, span=span)
     out.append(end)
 
 
@@ -201,9 +200,9 @@ def _assume_role(args: tuple, ctx: Context, out: list[Item], span: object) -> No
 
 PRIMITIVE_CODE = {
     "turnContinuously": _turn_continuously,
-    "turnTowards": _tens(CMD_TO),
-    "turnDegrees": _tens(CMD_DEGREES),
-    "stopTurning": _no_operand("EVAL_COMMAND", CMD_STOP, 0),
+    "turnTowards": _tens(ROTATE_TO),
+    "turnDegrees": _tens(ROTATE_DEGREES),
+    "stopTurning": _no_operand("EVAL_COMMAND", STOP, 0),
     "sleepWhileTurning": _immediate("SLEEP_ROTATIONS", "the number of turns"),
     "sleep": _no_operand("SLEEP"),
     "setLed": _immediate("SET_LED", "the LED value"),

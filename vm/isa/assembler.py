@@ -14,12 +14,13 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from vm.isa.opcodes import BY_NAME, PUSH_SMALL_BASE
+from vm.isa.opcodes import BUILTIN_COMMANDS, BY_NAME, PUSH_SMALL_BASE, USER_COMMAND_NUMBERS
 from vm.navigation import DIRECTION_BY_NAME
+from vm.roles import ANY_ROLE, NO_ROLE
 
-COMMAND_NAMES = {"ROTATE_CW": 1, "ROTATE_CCW": 2, "STOP": 3, "ROTATE_DEGREES": 4, "ROTATE_TO": 5}
-COMMAND_NAMES.update({f"USER_{k}": 128 + k for k in range(5)})
-SYMBOLS: dict[str, int] = {**DIRECTION_BY_NAME, **COMMAND_NAMES, "ANY": 255, "NONE": 0}
+COMMAND_NAMES = {name: code for code, name in BUILTIN_COMMANDS.items()}
+COMMAND_NAMES.update({f"USER_{k}": code for k, code in enumerate(USER_COMMAND_NUMBERS)})
+SYMBOLS: dict[str, int] = {**DIRECTION_BY_NAME, **COMMAND_NAMES, "ANY": ANY_ROLE, "NONE": NO_ROLE}
 SYMBOLS.update({f"EVENT_PROXIMITY_{k}": k for k in range(8)})
 
 _LABEL = re.compile(r"^([A-Za-z_][A-Za-z_0-9.]*):")

@@ -125,3 +125,14 @@ BY_NAME: dict[str, Instruction] = {ins.name: ins for ins in INSTRUCTIONS}
 PUSH_SMALL_BASE = 128  # byte 128 + v pushes v for 0 <= v <= 127
 MAX_STACK = 16
 MAX_STEPS_PER_RUN = 255
+SLOT_BYTES = 64  # a program store slot holds at most this many bytes (dcd-vm.md §1)
+PROGRAM_SLOTS = 10  # programs a module stores at once
+
+# The COMMAND operand: the joint's built-in commands, then user command k as USER_COMMAND_BASE + k.
+ROTATE_CW, ROTATE_CCW, STOP, ROTATE_DEGREES, ROTATE_TO = 1, 2, 3, 4, 5
+BUILTIN_COMMANDS: dict[int, str] = {ROTATE_CW: "ROTATE_CW", ROTATE_CCW: "ROTATE_CCW", STOP: "STOP",
+                                    ROTATE_DEGREES: "ROTATE_DEGREES", ROTATE_TO: "ROTATE_TO"}
+USER_COMMAND_BASE = 128
+USER_COMMANDS = 5  # entries in a role's command table
+USER_COMMAND_NUMBERS = range(USER_COMMAND_BASE, USER_COMMAND_BASE + USER_COMMANDS)
+COMMANDS = frozenset(BUILTIN_COMMANDS) | frozenset(USER_COMMAND_NUMBERS)

@@ -14,11 +14,10 @@ refuses this project's extension opcodes. Returns error strings; never raises.
 from __future__ import annotations
 
 from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble
-from vm.isa.opcodes import BY_OPCODE, MAX_STACK, Operand
+from vm.isa.opcodes import BY_OPCODE, COMMANDS, MAX_STACK, SLOT_BYTES, USER_COMMAND_BASE, Operand
 from vm.navigation import DIRECTIONS
 
-MAX_FRAGMENT = 64  # a program slot holds at most 64 bytes
-COMMANDS = frozenset(range(1, 6)) | frozenset(range(128, 133))
+MAX_FRAGMENT = SLOT_BYTES
 
 
 def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT) -> list[str]:
@@ -67,7 +66,7 @@ def _check_instruction(d: Decoded, code: bytes, strict: bool) -> list[str]:
             errors.append(f"{where}: {d.name}: command {value} is not 1..5 or 128..132")
         elif kind is Operand.ZERO and value != 0:
             errors.append(f"{where}: {d.name}: operand must be 0, got {value}")
-    if d.name == "INSTALL_COMMAND" and d.operands[1] < 128:
+    if d.name == "INSTALL_COMMAND" and d.operands[1] < USER_COMMAND_BASE:
         errors.append(f"{where}: INSTALL_COMMAND: command {d.operands[1]} is not a user command (>= 128)")
     return errors
 

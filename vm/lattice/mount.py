@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-MIRROR = (4, 7, 6, 5, 0, 3, 2, 1)
+from vm.navigation import MIRROR
 
 
 @dataclass(frozen=True, slots=True)

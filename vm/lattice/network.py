@@ -7,8 +7,7 @@ import random
 from dataclasses import dataclass, field
 
 from vm.lattice.structure import Structure
-
-PACKET_BUDGET = 50  # bytes; above this the hardware link became unreliable (dcd-vm.md §2)
+from vm.packets import PACKET_BUDGET
 
 
 @dataclass

@@ -16,7 +16,6 @@ from vm.lattice.mount import IDENTITY, Mount
 
 EW, NS, UD = navigation.EAST_WEST, navigation.NORTH_SOUTH, navigation.UP_DOWN
 AXIS_NAMES = navigation.AXIS_NAMES
-AXIS_CODES = {name: code for code, name in AXIS_NAMES.items()}
 
 Vec = tuple[int, int, int]
 
