@@ -1,8 +1,8 @@
 """Fuzzes the front end: random text, random token sequences and mutated examples.
 
-Every case goes through ``rdcd_core.syntax.parse`` (and ``rdcd_core.semantics.analyze`` when it
-is importable). Prints the number of cases, the time, and every exception; exits 1 on any
-exception or on a diagnostic whose span lies outside the text.
+Every case goes through ``rdcd_core.syntax.parse`` and ``rdcd_core.semantics.analyze``. Prints
+the number of cases, the time, and every exception; exits 1 on any exception or on a diagnostic
+whose span lies outside the text.
 
     python benchmarks/parse_fuzz.py [-n 10000] [--seed 1]
 """
@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import random
-import re
 import sys
 import time
 import traceback
@@ -21,19 +20,14 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from rdcd_core.semantics import analyze  # noqa: E402
 from rdcd_core.syntax import parse  # noqa: E402
 from rdcd_core.syntax.keywords import KEYWORDS  # noqa: E402
+from tests.syntax.fuzz_inputs import PUNCT, edit, example_sources, tokens_of  # noqa: E402
 
-PUNCT = ["{", "}", "(", ")", ",", ";", ".", ":=", "||", "&&", "==", "!=", "<", ">", "<=", ">=",
-         "+", "-", "!"]
 WORDS = [*KEYWORDS, "x", "Wheel", "sizeof", "connected_role", "EAST", "turnTowards", "y", "_a1"]
 NUMBERS = ["0", "1", "127", "128", "300", "99999999999999999999"]
 ODD = ["/*", "*/", "//", "\n", "@", "=", "é", "\t", "\x00", "#", "\"", "'", ":", "&", "|"]
-TOKEN_RE = re.compile(r"//[^\n]*|/\*.*?\*/|[A-Za-z_]\w*|\d+|:=|\|\||&&|==|!=|<=|>=|\S", re.S)
-
-
-def examples() -> list[str]:
-    return [path.read_text(encoding="utf-8") for path in sorted((ROOT / "examples").glob("*.rdcd"))]
 
 
 def random_text(rng: random.Random, _: list[str]) -> str:
@@ -47,37 +41,25 @@ def random_tokens(rng: random.Random, _: list[str]) -> str:
 
 
 def mutated_example(rng: random.Random, sources: list[str]) -> str:
-    tokens = TOKEN_RE.findall(rng.choice(sources))
+    tokens = tokens_of(rng.choice(sources))
     for _ in range(rng.randint(1, 6)):
         if not tokens:
             break
         index = rng.randrange(len(tokens))
         operation = rng.choice(("delete", "duplicate", "swap", "insert", "replace"))
-        if operation == "delete":
-            del tokens[index]
-        elif operation == "duplicate":
-            tokens.insert(index, tokens[index])
-        elif operation == "swap" and index + 1 < len(tokens):
-            tokens[index], tokens[index + 1] = tokens[index + 1], tokens[index]
-        elif operation == "insert":
-            tokens.insert(index, rng.choice(PUNCT + WORDS + ODD))
-        else:
-            tokens[index] = rng.choice(PUNCT + WORDS + NUMBERS)
+        word = ""
+        if operation == "insert":
+            word = rng.choice(PUNCT + WORDS + ODD)
+        elif operation == "replace":
+            word = rng.choice(PUNCT + WORDS + NUMBERS)
+        edit(tokens, operation, index, word)
     return " ".join(tokens)
 
 
 GENERATORS: list[Callable[[random.Random, list[str]], str]] = [random_text, random_tokens, mutated_example]
 
 
-def load_analyze() -> Callable | None:
-    try:
-        from rdcd_core.semantics import analyze
-    except Exception:  # noqa: BLE001 - semantics may not exist yet in this tree
-        return None
-    return analyze
-
-
-def check_case(text: str, analyze: Callable | None) -> str | None:
+def check_case(text: str) -> str | None:
     """None if the case is fine, else a description of the failure."""
     try:
         result = parse(text)
@@ -87,11 +69,10 @@ def check_case(text: str, analyze: Callable | None) -> str | None:
         span = diagnostic.span
         if not 0 <= span.start <= span.end <= len(text):
             return f"diagnostic span {span} outside the text (length {len(text)}): {diagnostic}"
-    if analyze is not None:
-        try:
-            analyze(result.program)
-        except Exception:  # noqa: BLE001
-            return "analyze raised:\n" + traceback.format_exc()
+    try:
+        analyze(result.program)
+    except Exception:  # noqa: BLE001
+        return "analyze raised:\n" + traceback.format_exc()
     return None
 
 
@@ -101,20 +82,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args(argv)
     rng = random.Random(args.seed)
-    sources = examples()
-    analyze = load_analyze()
+    sources = example_sources()
     failures = 0
     started = time.perf_counter()
     for case in range(args.n):
         text = GENERATORS[case % len(GENERATORS)](rng, sources)
-        problem = check_case(text, analyze)
+        problem = check_case(text)
         if problem is not None:
             failures += 1
             if failures <= 20:
                 print(f"--- case {case}: {text!r}\n{problem}")
     elapsed = time.perf_counter() - started
-    stage = "parse + analyze" if analyze is not None else "parse"
-    print(f"{args.n} cases ({stage}) in {elapsed:.1f} s, {failures} failing")
+    print(f"{args.n} cases (parse + analyze) in {elapsed:.1f} s, {failures} failing")
     return 1 if failures else 0
 
 

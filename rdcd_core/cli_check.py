@@ -9,10 +9,10 @@ import argparse
 import json
 import sys
 
+from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES, MAX_PROGRAM_BYTES
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
 from rdcd_core.inputs import InputError, collect_files, read_source
-from rdcd_core.source import LineIndex
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -22,14 +22,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output format (default: text)")
     parser.add_argument("--warnings-as-errors", action="store_true",
                         help="exit with status 1 on warnings too")
-    parser.add_argument("--packet-budget", type=int, default=50, metavar="N",
-                        help="packet size budget in bytes for the target checks (default: 50)")
+    parser.add_argument("--packet-budget", type=int, default=DEFAULT_PACKET_BUDGET, metavar="N",
+                        help="packet size budget in bytes for the target checks "
+                             f"(default: {DEFAULT_PACKET_BUDGET})")
+
+
+def check_packet_budget(flag: str, value: int) -> None:
+    """A packet holds the header and at least one program byte, and at most a program slot."""
+    low, high = HEADER_BYTES + 1, HEADER_BYTES + MAX_PROGRAM_BYTES
+    if not low <= value <= high:
+        raise InputError(f"{flag} must be {low}..{high} bytes, not {value}")
 
 
 def run(args: argparse.Namespace) -> int:
     try:
-        if not 8 <= args.packet_budget <= 71:  # as `rdcd compile --max-packet`
-            raise InputError(f"--packet-budget must be 8..71 bytes, not {args.packet_budget}")
+        check_packet_budget("--packet-budget", args.packet_budget)
         sources = [(path, read_source(path)) for path in collect_files(args.paths)]
     except InputError as error:
         print(f"rdcd check: {error}", file=sys.stderr)
@@ -60,32 +67,24 @@ def exit_status(results: list[tuple[str, CheckResult]], warnings_as_errors: bool
 
 def _positions(result: CheckResult, diagnostic: Diagnostic) -> tuple[int, int, int, int]:
     """1-based line, column, end line and end column (end exclusive)."""
-    index = _index(result)
+    index = result.line_index
     start = index.line_col(diagnostic.span.start)
     end = index.line_col(diagnostic.span.end)
     return start.line + 1, start.column + 1, end.line + 1, end.column + 1
-
-
-def _index(result: CheckResult) -> LineIndex:
-    cached = getattr(result, "_line_index", None)
-    if cached is None:
-        cached = LineIndex(result.text)
-        result._line_index = cached  # type: ignore[attr-defined]
-    return cached
 
 
 def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
     line, column, end_line, end_column = _positions(result, diagnostic)
     label = diagnostic.severity.label
     lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {_clip(diagnostic.message)}"]
-    source = _index(result).line_text(line - 1)
+    index = result.line_index
+    source = index.line_text(line - 1)
     if source.strip():
         width = (end_column - column) if end_line == line else len(source) - column + 1
         source, at, width = _excerpt(source, column - 1, width)
         gutter = " " * len(str(line))
         prefix = "".join(c if c == "\t" else " " for c in source[:at])
         lines += [f"{gutter} |", f"{line} | {source}", f"{gutter} | {prefix}{'^' * max(1, width)}"]
-    index = _index(result)
     for related in diagnostic.related:
         at = index.line_col(related.span.start)
         lines.append(f"  = note: {path}:{at.line + 1}:{at.column + 1}: {related.message}")

@@ -10,11 +10,12 @@ import os
 import sys
 from pathlib import Path
 
-from rdcd_core.cli_check import render_text
-from rdcd_core.compiler import compile_model
+from rdcd_core.cli_check import check_packet_budget, render_text
+from rdcd_core.compiler import CompiledProgram, compile_model
+from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES
 from rdcd_core.compiler.render import render_c, render_json, render_listing
-from rdcd_core.diagnostics import Severity
-from rdcd_core.frontend import check_text
+from rdcd_core.diagnostics import Diagnostic, Severity
+from rdcd_core.frontend import CheckResult, check_text
 from rdcd_core.inputs import InputError, read_source
 
 
@@ -22,8 +23,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE", help="the RDCD program")
     parser.add_argument("--format", choices=("listing", "json", "c"), default="listing",
                         help="output format (default: listing)")
-    parser.add_argument("--max-packet", type=int, default=50, metavar="N",
-                        help="packet budget in bytes, 7 header bytes included (default: 50)")
+    parser.add_argument("--max-packet", type=int, default=DEFAULT_PACKET_BUDGET, metavar="N",
+                        help=f"packet budget in bytes, {HEADER_BYTES} header bytes included "
+                             f"(default: {DEFAULT_PACKET_BUDGET})")
     parser.add_argument("--strict-isa", action="store_true",
                         help="refuse this project's extension instructions")
     parser.add_argument("-o", "--output", metavar="OUT", help="write the output here, not to stdout")
@@ -36,11 +38,23 @@ def _same_file(a: str, b: str) -> bool:
         return False
 
 
+def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False
+                 ) -> tuple[CheckResult, CompiledProgram | None, list[Diagnostic]]:
+    """Checks ``text`` and, if it has no errors, compiles it: the check result, the program (None
+    after errors) and every diagnostic, the compiler's own ones that the check had not found added."""
+    result = check_text(text, packet_budget=packet_budget)
+    diagnostics = list(result.diagnostics)
+    if result.has_errors:
+        return result, None, diagnostics
+    program = compile_model(result.model, packet_budget=packet_budget, strict_isa=strict_isa, text=text)
+    known = {(d.code, d.span) for d in diagnostics}
+    diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
+    return result, program, diagnostics
+
+
 def run(args: argparse.Namespace) -> int:
-    if not 8 <= args.max_packet <= 71:
-        print(f"rdcd compile: --max-packet must be 8..71 bytes, not {args.max_packet}", file=sys.stderr)
-        return 2
     try:
+        check_packet_budget("--max-packet", args.max_packet)
         text = read_source(args.file)
     except InputError as error:
         print(f"rdcd compile: {error}", file=sys.stderr)
@@ -49,19 +63,13 @@ def run(args: argparse.Namespace) -> int:
         print(f"rdcd compile: -o {args.output} is the program itself; refusing to overwrite it",
               file=sys.stderr)
         return 2
-    result = check_text(text, packet_budget=args.max_packet)
-    diagnostics = list(result.diagnostics)
-    program = None
-    if not result.has_errors:
-        try:
-            program = compile_model(result.model, packet_budget=args.max_packet,
-                                    strict_isa=args.strict_isa, text=text)
-        except Exception as error:  # a compiler bug: one clear line, not a traceback
-            print(f"rdcd compile: internal compiler error: {type(error).__name__}: {error}; "
-                  "please report this bug", file=sys.stderr)
-            return 1
-        known = {(d.code, d.span) for d in diagnostics}
-        diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
+    try:
+        result, program, diagnostics = compile_text(text, packet_budget=args.max_packet,
+                                                    strict_isa=args.strict_isa)
+    except Exception as error:  # a compiler bug: one clear line, not a traceback
+        print(f"rdcd compile: internal compiler error: {type(error).__name__}: {error}; "
+              "please report this bug", file=sys.stderr)
+        return 1
     for diagnostic in diagnostics:
         sys.stderr.write(render_text(args.file, result, diagnostic))
     if program is None or any(d.severity is Severity.ERROR for d in diagnostics):

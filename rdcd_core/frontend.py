@@ -6,12 +6,13 @@ The CLI, the language server and the tests all use ``check_text``; it never rais
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.semantics import analyze
 from rdcd_core.semantics.codes import INTERNAL_ERROR
 from rdcd_core.semantics.model import Model
-from rdcd_core.source import Span
+from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.parser import parse
 
@@ -26,6 +27,11 @@ class CheckResult:
     @property
     def has_errors(self) -> bool:
         return any(d.severity is diag.Severity.ERROR for d in self.diagnostics)
+
+    @cached_property
+    def line_index(self) -> LineIndex:
+        """Lines and columns of ``text``, built when a renderer first asks."""
+        return LineIndex(self.text)
 
 
 def check_text(text: str, *, packet_budget: int = 50) -> CheckResult:
@@ -49,10 +55,8 @@ def check_text(text: str, *, packet_budget: int = 50) -> CheckResult:
 
 
 def _target_diagnostics(model: Model, packet_budget: int) -> list[diag.Diagnostic]:
-    try:
-        from rdcd_core.compiler import target_diagnostics  # type: ignore[attr-defined]
-    except (ImportError, AttributeError):
-        return []
+    from rdcd_core.compiler import target_diagnostics  # the layer above: imported when needed
+
     try:
         return list(target_diagnostics(model, packet_budget))
     except Exception as error:  # the compiler is another layer: report, do not crash

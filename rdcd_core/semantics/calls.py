@@ -29,10 +29,7 @@ def _self_call(env: Env, call: ast.SelfCall) -> Result:
     if primitive is not None:
         env.ctx.reference(call.name, "primitive", name)
         if not call.has_parens and not primitive.is_query:
-            end = call.name.span.end
-            env.ctx.report(codes.MISSING_PARENS, call.name.span,
-                           f"'{name}' is not a query; write 'self.{name}(…)'",
-                           fixes=(diag.Fix("add '()'", (diag.TextEdit(Span(end, end), "()"),)),))
+            _missing_parens(env, call, f"'{name}' is not a query; write 'self.{name}(…)'")
         if env.constant is not None:
             _not_constant(env, call)
             _check_args(env, call, primitive)
@@ -49,10 +46,7 @@ def _self_call(env: Env, call: ast.SelfCall) -> Result:
         return None, None
     env.ctx.reference(call.name, "method", env.home_target(name, "method"))
     if not call.has_parens:
-        end = call.name.span.end
-        env.ctx.report(codes.MISSING_PARENS, call.name.span,
-                       f"'{name}' is a method, not a query; write 'self.{name}()'",
-                       fixes=(diag.Fix("add '()'", (diag.TextEdit(Span(end, end), "()"),)),))
+        _missing_parens(env, call, f"'{name}' is a method, not a query; write 'self.{name}()'")
     if env.constant is not None:
         _not_constant(env, call)
     if call.args:
@@ -75,6 +69,12 @@ def _self_call(env: Env, call: ast.SelfCall) -> Result:
             played = tuple(m.name for m in env.mixins)
             env.ctx.inlined.append((method.decl, call.name, played, env.in_assume))
     return Type.VOID, None
+
+
+def _missing_parens(env: Env, call: ast.SelfCall, message: str) -> None:
+    end = call.name.span.end
+    env.ctx.report(codes.MISSING_PARENS, call.name.span, message,
+                   fixes=(diag.Fix("add '()'", (diag.TextEdit(Span(end, end), "()"),)),))
 
 
 def _not_constant(env: Env, call: ast.Call) -> None:
@@ -208,7 +208,7 @@ def _check_arg(env: Env, primitive: Primitive, index: int, arg: ast.Arg) -> Valu
         where = f" ({where.strip()})" if where else ""
         env.ctx.report(codes.ARG_TYPE, arg.span,
                        f"argument '{param.name}' of '{primitive.name}' must be "
-                       f"{expressions._a(param.type)}, not {expressions._a(type_)}{where}: "
+                       f"{expressions.a_type(param.type)}, not {expressions.a_type(type_)}{where}: "
                        f"{primitive.signature}")
         return None
     return value

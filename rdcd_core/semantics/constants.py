@@ -8,7 +8,7 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.semantics import codes
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.env import Env
-from rdcd_core.semantics.expressions import constant_value
+from rdcd_core.semantics.expressions import a_type, constant_value
 from rdcd_core.semantics.model import ROOT_ROLE, RoleSymbol
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
@@ -71,15 +71,10 @@ def _family_types(ctx: Context) -> None:
         for definition, type_, _owner in typed[1:]:
             if type_ is not first_type:
                 ctx.report(codes.CONSTANT_TYPE_DISAGREES, definition.value.span,
-                           f"constant '{key[1]}' is {_a(type_)} here but {_a(first_type)} in "
+                           f"constant '{key[1]}' is {a_type(type_)} here but {a_type(first_type)} in "
                            f"'{first_owner}'; every definition of '{key[1]}' must have one type",
                            related=(diag.Related(first_def.value.span,
-                                                 f"'{key[1]}' is {_a(first_type)} here"),))
+                                                 f"'{key[1]}' is {a_type(first_type)} here"),))
         for constant in members.get(key, ()):
             if constant.definition is None:
                 constant.type = first_type
-
-
-def _a(type_: Type | None) -> str:
-    name = type_.value if type_ is not None else "unknown"
-    return f"an {name}" if name[0] in "aeiou" else f"a {name}"

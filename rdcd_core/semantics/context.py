@@ -63,18 +63,10 @@ class Context:
         return ancestor in self.ancestors(role)
 
 
-def suggest(name: str, candidates: Iterable[str]) -> str | None:
-    matches = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return matches[0] if matches else None
-
-
-def rename_fix(span: Span, replacement: str) -> tuple[diag.Fix, ...]:
-    return (diag.Fix(f"replace with '{replacement}'", (diag.TextEdit(span, replacement),)),)
-
-
 def did_you_mean(name: str, candidates: Iterable[str], span: Span) -> tuple[str, tuple[diag.Fix, ...]]:
     """A message suffix and the replacement fix for an unknown ``name`` written at ``span``."""
-    best = suggest(name, candidates)
-    if best is None:
+    matches = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    if not matches:
         return "", ()
-    return f"; did you mean '{best}'?", rename_fix(span, best)
+    best = matches[0]
+    return f"; did you mean '{best}'?", (diag.Fix(f"replace with '{best}'", (diag.TextEdit(span, best),)),)

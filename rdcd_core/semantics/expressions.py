@@ -123,7 +123,7 @@ def _unary(env: Env, expr: ast.Unary) -> Result:
         return wanted, None
     if type_ is not wanted:
         env.ctx.report(codes.TYPE_MISMATCH, expr.span,
-                       f"'{expr.op}' needs {_a(wanted)}, not {_a(type_)}")
+                       f"'{expr.op}' needs {a_type(wanted)}, not {a_type(type_)}")
         return wanted, None
     if value is None:
         return wanted, None
@@ -151,8 +151,10 @@ def where(env: Env, expr: ast.Arg) -> str:
     return ""
 
 
-def _a(type_: Type) -> str:
-    return f"an {type_.value}" if type_.value[0] in "aeiou" else f"a {type_.value}"
+def a_type(type_: Type | None) -> str:
+    """The type with its article: 'an int', 'a dir' ('an unknown' for None)."""
+    name = type_.value if type_ is not None else "unknown"
+    return f"an {name}" if name[0] in "aeiou" else f"a {name}"
 
 
 def _binary(env: Env, expr: ast.Binary) -> Result:
@@ -164,9 +166,9 @@ def _binary(env: Env, expr: ast.Binary) -> Result:
         return result, None
     if not _types_fit(op, left_type, right_type):
         env.ctx.report(codes.TYPE_MISMATCH, expr.op_span,
-                       f"'{op}' cannot combine {_a(left_type)} with {_a(right_type)}; {_hint(op)}",
-                       related=(diag.Related(expr.left.span, f"this is {_a(left_type)}"),
-                                diag.Related(expr.right.span, f"this is {_a(right_type)}")))
+                       f"'{op}' cannot combine {a_type(left_type)} with {a_type(right_type)}; {_hint(op)}",
+                       related=(diag.Related(expr.left.span, f"this is {a_type(left_type)}"),
+                                diag.Related(expr.right.span, f"this is {a_type(right_type)}")))
         return result, None
     if left is None or right is None:
         return result, None

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from rdcd_core import diagnostics as diag
 from rdcd_core.semantics import codes
 from rdcd_core.semantics.context import Context, did_you_mean
@@ -55,42 +57,38 @@ def _with_space(span: ast.Span) -> ast.Span:
 def _resolve_links(ctx: Context, symbol: RoleSymbol) -> None:
     decl = symbol.decl
     assert decl is not None
-    roles = ctx.model.roles
     if decl.extends is not None and decl.extends.text:
-        target = decl.extends
-        parent = roles.get(target.text)
-        if parent is None:
-            candidates = [r for r, s in roles.items() if not s.is_mixin]
-            suffix, fixes = did_you_mean(target.text, candidates, target.span)
-            ctx.report(codes.UNKNOWN_SUPER, target.span,
-                       f"unknown super-role '{target.text}'{suffix}", fixes=fixes)
-        elif parent.is_mixin:
-            ctx.reference(target, "role", parent.name)
-            ctx.report(codes.EXTENDS_MIXIN, target.span,
-                       f"'{decl.name.text}' cannot extend mixin '{parent.name}'; extend the role "
-                       f"it modifies ('{parent.modifies or ROOT_ROLE}') instead",
-                       related=_decl_related(parent, "the mixin"))
-        else:
-            ctx.reference(target, "role", parent.name)
-            symbol.parent = parent.name
+        parent = _link(
+            ctx, decl.extends, codes.UNKNOWN_SUPER, f"unknown super-role '{decl.extends.text}'",
+            codes.EXTENDS_MIXIN,
+            lambda mixin: f"'{decl.name.text}' cannot extend mixin '{mixin.name}'; extend the role "
+                          f"it modifies ('{mixin.modifies or ROOT_ROLE}') instead")
+        if parent is not None:
+            symbol.parent = parent
     if decl.modifies is not None and decl.modifies.text:
-        target = decl.modifies
-        modified = roles.get(target.text)
-        if modified is None:
-            candidates = [r for r, s in roles.items() if not s.is_mixin]
-            suffix, fixes = did_you_mean(target.text, candidates, target.span)
-            ctx.report(codes.UNKNOWN_MODIFIED, target.span,
-                       f"mixin '{decl.name.text}' modifies unknown role '{target.text}'{suffix}",
-                       fixes=fixes)
-        elif modified.is_mixin:
-            ctx.reference(target, "role", modified.name)
-            ctx.report(codes.MODIFIES_MIXIN, target.span,
-                       f"mixin '{decl.name.text}' cannot modify mixin '{modified.name}'; "
-                       "modify a non-mixin role",
-                       related=_decl_related(modified, "the mixin"))
-        else:
-            ctx.reference(target, "role", modified.name)
-            symbol.modifies = modified.name
+        symbol.modifies = _link(
+            ctx, decl.modifies, codes.UNKNOWN_MODIFIED,
+            f"mixin '{decl.name.text}' modifies unknown role '{decl.modifies.text}'",
+            codes.MODIFIES_MIXIN,
+            lambda mixin: f"mixin '{decl.name.text}' cannot modify mixin '{mixin.name}'; "
+                          "modify a non-mixin role")
+
+
+def _link(ctx: Context, target: ast.Name, unknown_code: str, unknown: str, mixin_code: str,
+          on_mixin: Callable[[RoleSymbol], str]) -> str | None:
+    """The non-mixin role ``target`` names; else reports it (unknown, or a mixin) and gives None."""
+    roles = ctx.model.roles
+    found = roles.get(target.text)
+    if found is None:
+        candidates = [r for r, s in roles.items() if not s.is_mixin]
+        suffix, fixes = did_you_mean(target.text, candidates, target.span)
+        ctx.report(unknown_code, target.span, unknown + suffix, fixes=fixes)
+        return None
+    ctx.reference(target, "role", found.name)
+    if found.is_mixin:
+        ctx.report(mixin_code, target.span, on_mixin(found), related=_decl_related(found, "the mixin"))
+        return None
+    return found.name
 
 
 def _decl_related(symbol: RoleSymbol, what: str) -> tuple[diag.Related, ...]:

@@ -1,4 +1,6 @@
-"""The keywords of RDCD (language.md §1): the parser and the editor grammar read this list."""
+"""The keywords of RDCD (language.md §1), for the editor features and the TextMate grammar test.
+
+The lexer takes its keywords from grammar.lark; tests/syntax/test_lexer.py checks they agree."""
 
 KEYWORDS: tuple[str, ...] = (
     "abstract", "role", "extends", "modifies", "constant", "startup", "behavior", "command",

@@ -26,7 +26,8 @@ from rdcd_core.syntax.lexer import Tok
 
 Line = Callable[[int], int]
 Message = tuple[str, str, tuple[Related, ...]]
-TEXT = {"SEMI": ";", "RPAR": ")", "RBRACE": "}", "COMMA": ",", "LBRACE": "{", "LPAR": "("}
+# the text of a punctuation token (the ones the recovery makes up among them)
+TEXT = {name: shown[1:-1] for name, shown in ctx.TOKEN_TEXT.items() if shown.startswith("'")}
 
 
 def _opened_here(tok: Tok) -> tuple[Related, ...]:

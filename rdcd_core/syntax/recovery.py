@@ -31,7 +31,6 @@ _SINGLE = ("SEMI", "RPAR", "RBRACE", "COMMA", "LBRACE")
 _DOUBLE = (("RPAR", "SEMI"), ("SEMI", "RBRACE"), ("RPAR", "RPAR"), ("RBRACE", "RBRACE"), ("LPAR", "RPAR"))
 # what a mistyped character (a BAD token of the lexer) may have meant
 _REPLACEMENTS = {"=": ("ASSIGN", "EQ"), ":": ("ASSIGN",), "&": ("AND",), "|": ("OR",)}
-_CANONICAL = {"ASSIGN": ":=", "EQ": "==", "AND": "&&", "OR": "||"}
 _STRONG = frozenset({"ROLE", "ABSTRACT", "DEPLOYMENT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND",
                      "IF", "RBRACE"})
 _TOP = frozenset({"ROLE", "DEPLOYMENT"})  # roles do not nest: these are resume points at any depth
@@ -103,7 +102,7 @@ class Recovery:
         ahead = self._types(i + 1, _LOOKAHEAD - 1)
         for cand in _REPLACEMENTS.get(tok.value, ()):
             if lr.accepts(self.t, stack, [cand, *ahead]):
-                return i + 1, [Tok(cand, _CANONICAL[cand], tok.start, tok.end)]
+                return i + 1, [Tok(cand, TEXT[cand], tok.start, tok.end)]
         return i + 1, []
 
     # ------------------------------------------------------------------ repairs

@@ -39,6 +39,16 @@ def assert_clean_failure(done: subprocess.CompletedProcess[str], status: int, *w
         assert word in done.stderr, done.stderr
 
 
+def program_error_output(path: Path) -> list[str]:
+    """What ``check`` (stdout) and ``compile`` (stderr) show for ``path``: both fail cleanly with 1."""
+    shown = []
+    for command in ("check", "compile"):
+        done = rdcd(command, str(path))
+        assert_clean_failure(done, 1)
+        shown.append(done.stdout if command == "check" else done.stderr)
+    return shown
+
+
 def program(startup: str, extra: str = "") -> str:
     return f"role A {{\n  self.x() >= 0;\n{extra}  startup s() {{ {startup} }}\n}}\ndeployment {{ A }}\n"
 
@@ -124,10 +134,7 @@ def test_a_good_file_and_a_missing_one_is_an_io_error(weird: dict[str, Path]) ->
 def test_malformed_programs_are_program_errors(tmp_path: Path, text: str) -> None:
     path = tmp_path / "bad.rdcd"
     path.write_text(text, encoding="utf-8")
-    for command in ("check", "compile"):
-        done = rdcd(command, str(path))
-        assert_clean_failure(done, 1)
-        shown = done.stdout if command == "check" else done.stderr
+    for shown in program_error_output(path):
         assert "error[E" in shown and "E100" not in shown
 
 
@@ -141,10 +148,7 @@ def test_malformed_programs_are_program_errors(tmp_path: Path, text: str) -> Non
 def test_deep_and_long_programs_get_a_diagnostic(tmp_path: Path, text: str) -> None:
     path = tmp_path / "deep.rdcd"
     path.write_text(text, encoding="utf-8")
-    for command in ("check", "compile"):
-        done = rdcd(command, str(path))
-        assert_clean_failure(done, 1)
-        shown = done.stdout if command == "check" else done.stderr
+    for shown in program_error_output(path):
         assert "error[E" in shown and "E100" not in shown and "internal" not in shown
         assert max(len(line) for line in shown.splitlines() if "error[" in line) < 300
 
@@ -159,10 +163,7 @@ def test_long_chains_of_inlined_methods(tmp_path: Path, n: int) -> None:
     """Plain methods calling one another thousands deep: E606, not a RecursionError (E100)."""
     path = tmp_path / "chain.rdcd"
     path.write_text(_method_chain(n), encoding="utf-8")
-    for command in ("check", "compile"):
-        done = rdcd(command, str(path))
-        assert_clean_failure(done, 1)
-        shown = done.stdout if command == "check" else done.stderr
+    for shown in program_error_output(path):
         assert "error[E606]" in shown and "nest too deeply" in shown and "E100" not in shown
         assert max(len(line) for line in shown.splitlines()) < 400
 

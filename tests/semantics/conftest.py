@@ -6,14 +6,13 @@ import pytest
 
 from rdcd_core.diagnostics import Diagnostic
 from rdcd_core.frontend import CheckResult, check_text
-from rdcd_core.source import LineIndex
 
 
 class Checked:
     def __init__(self, text: str) -> None:
         self.text = text
         self.result: CheckResult = check_text(text)
-        self.index = LineIndex(text)
+        self.index = self.result.line_index
 
     @property
     def diagnostics(self) -> list[Diagnostic]:

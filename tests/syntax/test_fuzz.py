@@ -2,21 +2,17 @@
 
 from __future__ import annotations
 
-import re
-
 from hypothesis import given
 from hypothesis import strategies as st
 
 from rdcd_core.syntax import ast, parse
 from rdcd_core.syntax.keywords import KEYWORDS
-from tests.conftest import EXAMPLES
+from tests.syntax.fuzz_inputs import PUNCT, edit, example_sources, tokens_of
 from tests.syntax.helpers import check_spans
 
-SOURCES = [p.read_text(encoding="utf-8") for p in sorted(EXAMPLES.glob("*.rdcd"))]
-TOKEN_RE = re.compile(r"//[^\n]*|/\*.*?\*/|[A-Za-z_]\w*|\d+|:=|\|\||&&|==|!=|<=|>=|\S", re.S)
-EXAMPLE_TOKENS = [TOKEN_RE.findall(source) for source in SOURCES]
-VOCABULARY = [*KEYWORDS, "{", "}", "(", ")", ",", ";", ".", ":=", "||", "&&", "==", "!=", "<", ">",
-              "<=", ">=", "+", "-", "!", "x", "Wheel", "sizeof", "0", "300", "/*", "*/", "//", "\n",
+SOURCES = example_sources()
+EXAMPLE_TOKENS = [tokens_of(source) for source in SOURCES]
+VOCABULARY = [*KEYWORDS, *PUNCT, "x", "Wheel", "sizeof", "0", "300", "/*", "*/", "//", "\n",
               "=", "@", "é", "\x00"]
 
 
@@ -56,15 +52,7 @@ def test_mutated_examples(which: int, edits: list[tuple[str, int, str]]) -> None
     for operation, position, word in edits:
         if not tokens:
             break
-        index = position % len(tokens)
-        if operation == "delete":
-            del tokens[index]
-        elif operation == "duplicate":
-            tokens.insert(index, tokens[index])
-        elif operation == "swap" and index + 1 < len(tokens):
-            tokens[index], tokens[index + 1] = tokens[index + 1], tokens[index]
-        else:
-            tokens.insert(index, word)
+        edit(tokens, operation, position % len(tokens), word)
     check(" ".join(tokens))
 
 
