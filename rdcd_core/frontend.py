@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.semantics import analyze
@@ -23,6 +24,9 @@ class CheckResult:
     program: ast.Program
     model: Model
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    # The CompiledProgram the target checks were made on (error-free programs only): kept so that
+    # the editor's fragment sizes do not compile the same text a second time.
+    compiled: Any = None
 
     @property
     def has_errors(self) -> bool:
@@ -50,17 +54,19 @@ def check_text(text: str, *, packet_budget: int = 50) -> CheckResult:
         return _sorted(result)
     result.diagnostics.extend(result.model.diagnostics)
     if not result.has_errors:
-        result.diagnostics.extend(_target_diagnostics(result.model, packet_budget))
+        result.diagnostics.extend(_target_diagnostics(result, packet_budget))
     return _sorted(result)
 
 
-def _target_diagnostics(model: Model, packet_budget: int) -> list[diag.Diagnostic]:
-    from rdcd_core.compiler import target_diagnostics  # the layer above: imported when needed
+def _target_diagnostics(result: CheckResult, packet_budget: int) -> list[diag.Diagnostic]:
+    """The target limits (language.md §6): the program is compiled and kept on ``result``."""
+    from rdcd_core.compiler import compile_model  # the layer above: imported when needed
 
     try:
-        return list(target_diagnostics(model, packet_budget))
+        result.compiled = compile_model(result.model, packet_budget=packet_budget)
     except Exception as error:  # the compiler is another layer: report, do not crash
         return [_internal(error, "compilation")]
+    return list(result.compiled.diagnostics)
 
 
 def _internal(error: Exception, stage: str) -> diag.Diagnostic:

@@ -66,22 +66,15 @@ def _check_options(args: argparse.Namespace) -> str | None:
 
 def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
-    from rdcd_core.compiler import compile_model
+    from rdcd_core.cli_compile import compile_text
     from rdcd_core.diagnostics import Severity
-    from rdcd_core.frontend import check_text
     from rdcd_core.inputs import InputError, read_source
 
     try:
         text = read_source(path)
     except InputError as e:
         return _fail(str(e))
-    result = check_text(text)
-    diagnostics = list(result.diagnostics)
-    program = None
-    if not result.has_errors:
-        program = compile_model(result.model, text=text)
-        known = {(d.code, d.span) for d in diagnostics}
-        diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
+    result, program, diagnostics = compile_text(text)
     errors = [d for d in diagnostics if d.severity is Severity.ERROR]
     for diagnostic in errors:
         sys.stderr.write(render_text(path, result, diagnostic))

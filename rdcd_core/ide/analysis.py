@@ -75,7 +75,8 @@ def analyze(text: str) -> Analysis:
         from rdcd_core.frontend import check_text
 
         result = check_text(text)
-        return Analysis(text, result.program, result.model, list(result.diagnostics))
+        return Analysis(text, result.program, result.model, list(result.diagnostics),
+                        _compiled=result.compiled, _compile_tried=result.compiled is not None)
     except Exception as error:  # DESIGN rule 2 says this cannot happen; the editor must survive it
         from rdcd_core.semantics.codes import INTERNAL_ERROR
         from rdcd_core.source import Span
