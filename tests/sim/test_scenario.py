@@ -68,11 +68,11 @@ def test_car17_wide_first_manoeuvre() -> None:
 
 @pytest.mark.slow
 @pytest.mark.xfail(reason=(
-    "car17-wide turns ~50 deg in its first manoeuvre (17-40 s; car7 ~110): each half's bogies "
-    "steer to a turning centre 0.14 m beside that half while the halves' centres are 0.32 m "
-    "apart, so the halves' wheels scrub against each other, and the bridge loads the front wheels "
-    "more (a quasi-static Coulomb model gives 32 deg per 18 s of reversing, car7 228); it drives "
-    "on at ~45 deg, meets the 3 m wall again at ~53 s and is still reversing at 60 s (until ~74 s)"),
+    "car17-wide turns ~46 deg per manoeuvre (car7 ~110): each half's bogies steer to a turning "
+    "centre 0.14 m beside that half while the halves' centres are 0.32 m apart, so the wheels "
+    "fight (benchmarks/wheel_loads.py: loads 0-70 N, the east front wheels reverse 21-22 s "
+    "instead of 18); it drives on at ~45 deg, meets the 3 m wall again at ~53 s and is still "
+    "reversing at 60 s. See README, Figures, note 2"),
     strict=False)
 def test_car17_wide_avoids_a_wall_strictly() -> None:
     assert _failed(judge_obstacle(_run("car17-wide", "wall:1.0", 60.0), load_config("car17-wide"))) == []
