@@ -31,7 +31,7 @@ from rdcd_core.frontend import check_text  # noqa: E402
 from sim import params  # noqa: E402
 from sim.config import load_config, random_structure  # noqa: E402
 from sim.obstacles import parse_obstacle  # noqa: E402
-from sim.run import inject_program, role_table  # noqa: E402
+from sim.run import inject_program  # noqa: E402
 from sim.world import PhysicsWorld  # noqa: E402
 from vm.isa.assembler import assemble  # noqa: E402
 from vm.roles import RoleTable  # noqa: E402
@@ -46,7 +46,7 @@ def car(name: str, seconds: float) -> tuple[str, float, float, int]:
     program = _program()
     world = PhysicsWorld(load_config(name), obstacles=parse_obstacle("wall:1.0"))
     try:
-        runtimes = world.add_runtimes(role_table(program), seed=0)
+        runtimes = world.add_runtimes(program.role_table(), seed=0)
         inject_program(program, runtimes[world.structure.entry].inject)
         wall, cpu = time.perf_counter(), time.process_time()
         world.advance(seconds)

@@ -37,14 +37,9 @@ class Options:
     realtime: bool = False  # pace the GUI at wall-clock speed
 
 
-def role_table(program: CompiledProgram) -> RoleTable:
-    return RoleTable({r.id: r.name for r in program.roles},
-                     {r.id: frozenset(r.instance_of) for r in program.roles})
-
-
 def simulate(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
     boxes = parse_obstacle(options.obstacle)
-    roles = role_table(program)
+    roles = program.role_table()
     start = time.perf_counter()
     if options.world == "lattice":
         run = _run_lattice(program, structure, roles, boxes, options)

@@ -8,19 +8,9 @@ the optional hook ``on_event(kind, detail)``; kinds: "role", "handler" (an event
 detection), "command" (a command executed here), "program" (a program stored and queued),
 "error", "trace" (ACTIVATE_DEBUG).
 
-Fault tolerance (dcd-vm.md §6), in two parts:
-- delivery: every program, command and notify packet is sent with per-link acknowledgement and
-  retransmission (``vm.runtime_link``), so a fragment crosses each link despite loss; a module
-  whose slots or queue are full does not acknowledge a program, so it is offered again later;
-  headers whose coordinates contradict the parity rule (corruption) are dropped unacknowledged.
-  With ``checksum=True`` (all modules of a world must agree) every packet carries a CRC-8
-  trailer (``vm.packets.seal``) and corrupted packets are dropped unacknowledged, so corruption
-  is as harmless as loss; the default keeps the exact §2 format.
-- at most once: a program is identified by (id, bytes) and a command packet by (id, role,
-  command, argument); a module remembers the programs it has accepted (for ever) and the
-  commands it has seen (for ``COMMAND_MEMORY`` seconds, as command ids wrap), so copies arriving
-  through cycles, retries or delayed packets are acknowledged but never run again. Notifies carry
-  a per-sender sequence number in the id; an older one never overwrites a newer role.
+Packets, diffusion and their fault tolerance (dcd-vm.md §6) are the module's network side,
+``vm.runtime_node.ModuleNode``; this module adds the scheduler and the ``vm.interpreter.Machine``
+that programs run against.
 
 Scheduling: each ``step`` processes received packets, retransmits, fires event handlers, then
 runs every due task once (at most 255 instructions per run; SLEEP and SLEEP_ROTATIONS keep the
@@ -30,10 +20,6 @@ when the sensor clears or when a disabled event is enabled again.
 """
 
 from __future__ import annotations
-
-import random
-from collections import deque
-from collections.abc import Callable
 
 from vm import navigation as nav
 from vm.hal import ModuleHal
@@ -48,78 +34,24 @@ from vm.isa.opcodes import (
     USER_COMMAND_BASE,
     USER_COMMAND_NUMBERS,
 )
-from vm.isa.verifier import verify
-from vm.packets import (
-    COMMAND,
-    NOTIFY,
-    PROGRAM,
-    AckPacket,
-    CommandPacket,
-    NotifyPacket,
-    PacketError,
-    ProgramPacket,
-    decode,
-    header_bytes,
-    make_header,
-    unseal,
-)
+from vm.packets import NOTIFY
 from vm.roles import RoleTable
-from vm.runtime_link import Link
-from vm.runtime_store import HANDLER, USER_COMMAND, Slot, Store, StoreFull, Task
+from vm.runtime_node import ModuleNode
+from vm.runtime_store import HANDLER, USER_COMMAND, Slot, StoreFull, Task
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 
-COMMAND_MEMORY = 30.0  # seconds a seen command packet is remembered
-MAX_INBOX = 64
-MAX_LOG = 10_000
-EventHook = Callable[[str, dict[str, object]], None]
 
-
-class ModuleRuntime:
+class ModuleRuntime(ModuleNode):
     def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
                  checksum: bool = False) -> None:
-        self.hal = hal
-        self.checksum = checksum
-        self.roles = role_table
-        self.module_id = module_id
-        self.rng = random.Random(seed * 1_000_003 + module_id)
-        self.role = 0
-        self.position: tuple[int, int, int] | None = None
-        self.axis: int | None = None
-        self.mapping: tuple[int, ...] | None = None  # virtual → physical
-        self._p2v: tuple[int, ...] = nav.IDENTITY
-        self.errors: list[tuple[float, str]] = []
+        super().__init__(hal, role_table, module_id=module_id, seed=seed, checksum=checksum)
         self.role_history: list[tuple[float, int]] = []
-        self.event_log: list[tuple[float, str, dict[str, object]]] = []
-        self.on_event: EventHook | None = None
-        self.neighbour_roles = [0] * 8  # by virtual channel
-        self.store = Store()
-        self.link = Link(hal, self.rng, checksum=checksum)
         self.led = 0
         self.programs_run = 0  # received or injected programs that started (each counted once)
         self.runs = 0  # every run started: repeats, handlers and user commands included
-        self.bad_packets = 0
-        self.duplicates = 0
-        self._inbox: deque[tuple[int, bytes]] = deque()
-        self._seen_programs: set[tuple[int, bytes]] = set()
-        self._seen_commands: dict[tuple[int, int, int, int], float] = {}
-        self._notify_seq: dict[int, int] = {}  # physical channel → last notify id
-        self._reported: set[object] = set()
-        self._next_inject_id = 1
-        self._next_local_id = self.rng.randrange(256)
         self._notify_id = 0
 
     # ---- world interface -------------------------------------------------------------------
-    def receive(self, physical_channel: int, packet: bytes) -> None:
-        if len(self._inbox) >= MAX_INBOX:
-            self._error("receive buffer full, packet dropped")
-            return
-        try:
-            if isinstance(packet, int):  # bytes(n) would make n zero bytes
-                raise TypeError("a packet is bytes")
-            self._inbox.append((int(physical_channel), bytes(packet)))
-        except (TypeError, ValueError, OverflowError):
-            self.bad_packets += 1
-
     def needs_step(self, events: bool = True) -> bool:
         """Whether ``step`` has anything to do (received packets, retries, tasks, or — when
         ``events`` — installed event handlers to poll); a world may skip idle modules."""
@@ -133,21 +65,6 @@ class ModuleRuntime:
                 "duplicates": self.duplicates, "bad_packets": self.bad_packets,
                 "programs_run": self.programs_run, "runs": self.runs, "errors": len(self.errors)}
 
-    def inject(self, fragment: bytes) -> None:
-        """Enter a fragment here; the first injection defines the frame (origin, NS, identity)."""
-        if self.position is None:
-            self._set_frame((0, 0, 0), nav.NORTH_SOUTH, nav.IDENTITY)
-        ident = self._next_inject_id
-        self._next_inject_id = (ident + 1) & 0xFF
-        try:
-            if isinstance(fragment, int):  # bytes(n) would make n zero bytes
-                raise TypeError("a fragment is bytes")
-            code = bytes(fragment)
-        except (TypeError, ValueError):
-            self._error("inject: the fragment is not bytes")
-            return
-        self._accept_program(code, ident, None, None)
-
     def step(self) -> None:
         try:
             while self._inbox:
@@ -158,101 +75,6 @@ class ModuleRuntime:
             self._run_tasks()
         except Exception as e:  # a VM bug must not crash the world: report it on this module
             self._error(f"internal error: {type(e).__name__}: {e}")
-
-    # ---- packets ---------------------------------------------------------------------------
-    def _handle_packet(self, ch: int, raw: bytes) -> None:
-        if self.checksum:
-            sealed = unseal(raw)
-            if sealed is None:
-                self.bad_packets += 1  # corrupted in transit: stay silent, the sender retries
-                return
-            raw = sealed
-        p = decode(raw)
-        if isinstance(p, PacketError) or not 0 <= ch <= 7:
-            self.bad_packets += 1
-            return
-        if isinstance(p, AckPacket):
-            self.link.on_ack(ch, p)
-            return
-        h = p.header
-        if nav.axis_for_position(h.x, h.y, h.z) != h.r:
-            self.bad_packets += 1  # corrupted header: stay silent, the sender retries
-            return
-        if self.position is None:
-            self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
-        if isinstance(p, ProgramPacket):
-            if self._accept_program(p.code, h.id, ch, h.vch):
-                self.link.send_ack(ch, raw)
-        elif isinstance(p, CommandPacket):
-            self.link.send_ack(ch, raw)
-            self._accept_command(p, ch)
-        elif isinstance(p, NotifyPacket):
-            self.link.send_ack(ch, raw)
-            self._accept_notify(p, ch)
-
-    def _accept_program(self, code: bytes, ident: int, ch: int | None, vch: int | None) -> bool:
-        """Store and queue a program; False when it should be offered again later (no room)."""
-        key = (ident, code)
-        if key in self._seen_programs:
-            self.duplicates += 1
-            return True
-        problems = verify(code)
-        if problems:
-            self._seen_programs.add(key)
-            self._error(f"program {ident} rejected: {'; '.join(problems)}")
-            return True
-        ctx = (*self.position, self.axis, vch) if self.position and self.axis else None
-        try:
-            slot = self.store.add_slot(Slot(code, ident, PROGRAM_SLOT, ch, ctx))
-            try:
-                self.store.queue(Task(slot))
-            except StoreFull:
-                self.store.free_slot(slot)
-                raise
-        except StoreFull as e:
-            self._error_once(("full", key), f"program {ident} not accepted: {e}")
-            return False
-        self._seen_programs.add(key)
-        self._log("program", {"id": ident, "size": len(code)})
-        return True
-
-    def _accept_command(self, p: CommandPacket, ch: int) -> None:
-        key = (p.header.id, p.role, p.command, p.argument & 0xFF)
-        if key in self._seen_commands:
-            self.duplicates += 1
-            return
-        self._seen_commands[key] = self.hal.now()
-        self._flood_command(p.header.id, p.role, p.command, p.argument, exclude=ch)
-        if self.roles.is_instance(self.role, p.role):
-            self._queue_command(p.command, p.argument)
-
-    def _accept_notify(self, p: NotifyPacket, ch: int) -> None:
-        last = self._notify_seq.get(ch)
-        if last is not None and not 0 < (p.header.id - last) & 0xFF < 128:
-            return  # a duplicate or an older notify
-        self._notify_seq[ch] = p.header.id
-        self.neighbour_roles[self._p2v[ch]] = p.role
-
-    # ---- sending ---------------------------------------------------------------------------
-    def _send_all(self, type_: int, ident: int, body: bytes, exclude: int | None) -> None:
-        if self.position is None or self.axis is None:
-            return
-        x, y, z = self.position
-        for ch in sorted(self.hal.connected_channels()):
-            if ch == exclude or not 0 <= ch <= 7:
-                continue
-            rx, ry, rz, raxis, rvch = nav.receiver(x, y, z, self.axis, self._p2v[ch])
-            self.link.send(ch, header_bytes(make_header(type_, ident, rx, ry, rz, raxis, rvch)) + body)
-
-    def _migrate(self, slot: Slot) -> None:
-        ident = slot.ident
-        if slot.kind != PROGRAM_SLOT:  # a handler or command spreading: a new program each time
-            ident = self._local_id()
-            self._seen_programs.add((ident, slot.code))
-        self._send_all(PROGRAM, ident, slot.code, exclude=slot.in_physical)
-
-    def _flood_command(self, ident: int, role: int, command: int, arg: int, exclude: int | None) -> None:
-        self._send_all(COMMAND, ident, bytes((role & 0xFF, command & 0xFF, arg & 0xFF)), exclude)
 
     # ---- scheduler -------------------------------------------------------------------------
     def _check_events(self) -> None:
@@ -316,12 +138,6 @@ class ModuleRuntime:
         elif result.outcome is Outcome.ERROR:
             self._error(f"program {slot.ident if slot else '?'}: {result.message}")
         self.store.release_after_run(slot)
-
-    def _queue_command(self, command: int, arg: int) -> None:
-        try:
-            self.store.queue(Task(None, arg=arg, command=command))
-        except StoreFull as e:
-            self._error(f"command {command} not run: {e}")
 
     def _run_command(self, command: int, arg: int) -> None:
         """Execute a command here: built-ins drive the joint, user commands queue their program."""
@@ -439,33 +255,3 @@ class ModuleRuntime:
 
     def trace(self, frame: Frame, text: str) -> None:
         self._log("trace", {"text": text})
-
-    # ---- helpers ---------------------------------------------------------------------------
-    def _local_id(self) -> int:
-        self._next_local_id = (self._next_local_id + 1) & 0xFF
-        return self._next_local_id
-
-    def _set_frame(self, position: tuple[int, int, int], axis: int, mapping: tuple[int, ...]) -> None:
-        self.position, self.axis, self.mapping = position, axis, mapping
-        self._p2v = nav.invert(mapping)
-
-    def _expire_commands(self) -> None:
-        now = self.hal.now()
-        if self._seen_commands:
-            self._seen_commands = {k: t for k, t in self._seen_commands.items() if now - t < COMMAND_MEMORY}
-
-    def _error(self, message: str) -> None:
-        self.errors.append((self.hal.now(), message))
-        del self.errors[:-MAX_LOG]
-        self._log("error", {"message": message})
-
-    def _error_once(self, key: object, message: str) -> None:
-        if key not in self._reported:
-            self._reported.add(key)
-            self._error(message)
-
-    def _log(self, kind: str, detail: dict[str, object]) -> None:
-        self.event_log.append((self.hal.now(), kind, detail))
-        del self.event_log[:-MAX_LOG]
-        if self.on_event is not None:
-            self.on_event(kind, detail)

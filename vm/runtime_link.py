@@ -7,7 +7,7 @@ a CRC-8 of the whole packet as received). Unacknowledged packets are sent again 
 neighbour with a full program store gets time to free a slot), with a little seeded jitter so that
 two neighbours do not stay in step, up to ``MAX_TRIES`` times (about 18 s in all). A receiver
 acknowledges every copy it accepts, including duplicates (the first ack may have been lost), and
-runs a program or command only once (duplicate suppression lives in ``vm.runtime``). A
+runs a program or command only once (duplicate suppression lives in ``vm.runtime_node``). A
 corrupted copy yields a different CRC and is therefore not acknowledged as the original, so the
 sender retries. A newer notify on a channel replaces an older one still waiting, so a late retry
 can never overwrite a newer role in a neighbour's cache. With loss p per packet, a try fails with

@@ -5,22 +5,21 @@ from __future__ import annotations
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.entry import behaviour_numbers, methods_of
-from rdcd_core.compiler.program import COMMAND_TABLE_SIZE, MAX_ROLE_IDS
 from rdcd_core.compiler.roletable import RoleTable
 from rdcd_core.semantics.model import Model
 from rdcd_core.syntax import ast
-from vm.isa.opcodes import PROGRAM_SLOTS
+from vm.isa.opcodes import PROGRAM_SLOTS, ROLE_IDS, USER_COMMANDS
 
 
 def role_id_limit(model: Model, table: RoleTable) -> list[diag.Diagnostic]:
-    if len(table.entries) <= MAX_ROLE_IDS:
+    if len(table.entries) <= ROLE_IDS:
         return []
-    entry = table.entries[MAX_ROLE_IDS]
+    entry = table.entries[ROLE_IDS]
     decl = model.roles[entry.name.split("@")[0]].decl
     span = decl.name.span if decl else model.program.span
     return [diag.make(codes.TOO_MANY_ROLE_IDS, span,
                       f"the program needs {len(table.entries)} role ids after mixin expansion, "
-                      f"the DCD-VM has {MAX_ROLE_IDS}; '{entry.name}' is number {entry.id}")]
+                      f"the DCD-VM has {ROLE_IDS}; '{entry.name}' is number {entry.id}")]
 
 
 def command_limit(model: Model, commands: dict[str, int]) -> list[diag.Diagnostic]:
@@ -31,10 +30,10 @@ def command_limit(model: Model, commands: dict[str, int]) -> list[diag.Diagnosti
         numbers.update(behaviour_numbers(model, role, commands))
         everything = methods + methods_of(model, role, ast.MethodKind.BEHAVIOR)
         for method in everything:
-            if numbers[method.name] >= COMMAND_TABLE_SIZE:
+            if numbers[method.name] >= USER_COMMANDS:
                 found.append(diag.make(
                     codes.TOO_MANY_COMMANDS, method.decl.name.span,
-                    f"role {role} needs more than {COMMAND_TABLE_SIZE} command-table entries "
+                    f"role {role} needs more than {USER_COMMANDS} command-table entries "
                     f"(commands and behaviours); '{method.name}' does not fit"))
     return _unique(found)
 

@@ -6,14 +6,13 @@ from dataclasses import dataclass, field
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.source import Span
-from vm.isa.opcodes import SLOT_BYTES, USER_COMMANDS
+from vm.isa.opcodes import SLOT_BYTES
+from vm.roles import RoleTable
 
 HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
 DEFAULT_PACKET_BUDGET = 50
 PROGRAM_BUDGET = DEFAULT_PACKET_BUDGET - HEADER_BYTES
 MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (dcd-vm.md §1)
-MAX_ROLE_IDS = 14
-COMMAND_TABLE_SIZE = USER_COMMANDS
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,3 +89,8 @@ class CompiledProgram:
 
     def role_id(self, name: str) -> int:
         return next(r.id for r in self.roles if r.name == name)
+
+    def role_table(self) -> RoleTable:
+        """The role table every module of the structure is given (role id → name, instance-of)."""
+        return RoleTable({r.id: r.name for r in self.roles},
+                         {r.id: frozenset(r.instance_of) for r in self.roles})

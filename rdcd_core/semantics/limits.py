@@ -12,9 +12,7 @@ from rdcd_core.semantics import codes
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.model import MethodSymbol
 from rdcd_core.syntax import ast
-
-MAX_ROLE_IDS = 14
-MAX_COMMANDS = 5
+from vm.isa.opcodes import ROLE_IDS, USER_COMMANDS
 
 
 def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
@@ -31,11 +29,11 @@ def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
             if roles[mixin].modifies in ctx.ancestors(role):
                 ids.append((f"{mixin}@{role}", name))
                 applications.append((mixin, role))
-    if len(ids) > MAX_ROLE_IDS:
-        what, name = ids[MAX_ROLE_IDS]
+    if len(ids) > ROLE_IDS:
+        what, name = ids[ROLE_IDS]
         ctx.report(codes.TOO_MANY_ROLE_IDS, name.span,
                    f"the program needs {len(ids)} role identifiers (deployed and observed roles, "
-                   f"one per mixin application); the target has {MAX_ROLE_IDS}: the 15th is "
+                   f"one per mixin application); the target has {ROLE_IDS}: the 15th is "
                    f"'{what}'; deploy fewer roles or assume fewer mixins")
     for role in deployed:
         _check_table(ctx, role, list(roles[role].methods.values()))
@@ -48,11 +46,11 @@ def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
 def _check_table(ctx: Context, role: str, methods: list[MethodSymbol], applied_to: str = "") -> None:
     commands = [m for m in methods if m.kind is ast.MethodKind.COMMAND]
     decl = ctx.model.roles[role].decl
-    if len(commands) <= MAX_COMMANDS or decl is None:
+    if len(commands) <= USER_COMMANDS or decl is None:
         return
     what = f"'{role}' applied to '{applied_to}'" if applied_to else f"role '{role}'"
     ctx.report(codes.TOO_MANY_COMMANDS, decl.name.span,
                f"{what} has {len(commands)} commands (inherited ones included); the target's "
-               f"command table holds {MAX_COMMANDS}: merge or remove some",
+               f"command table holds {USER_COMMANDS}: merge or remove some",
                related=tuple(diag.Related(m.decl.name.span, f"command '{m.name}'")
                              for m in commands))

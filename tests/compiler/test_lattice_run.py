@@ -6,19 +6,13 @@ import pytest
 
 from sim.config import load_config
 from vm.lattice.world import LatticeWorld
-from vm.roles import RoleTable
 
 CARS = ["car7", "car11", "car8-cyclic", "car17-wide"]
 
 
-def role_table(program) -> RoleTable:
-    return RoleTable({r.id: r.name for r in program.roles},
-                     {r.id: frozenset(r.instance_of) for r in program.roles})
-
-
 def start(program, config: str, *, loss: float = 0.0, spaced: bool = True, seed: int = 1):
     structure = load_config(config)
-    world = LatticeWorld(structure, role_table(program), seed=seed, packet_loss=loss)
+    world = LatticeWorld(structure, program.role_table(), seed=seed, packet_loss=loss)
     for name in program.injection:
         world.inject(program.fragment(name).code)
         if spaced:
@@ -77,7 +71,7 @@ def test_snake_segments_take_roles_and_flash(example_programs):
 
     program = example_programs["snake_wave.rdcd"]
     structure = snake(6)
-    world = LatticeWorld(structure, role_table(program), seed=2)
+    world = LatticeWorld(structure, program.role_table(), seed=2)
     for name in program.injection:
         world.inject(program.fragment(name).code)
     world.advance(5.0)

@@ -26,7 +26,6 @@ from rdcd_core.frontend import check_text
 from sim.config import load_config
 from vm.lattice.structure import Structure
 from vm.lattice.world import LatticeWorld
-from vm.roles import RoleTable
 
 ROOT = Path(__file__).resolve().parents[2]
 PROGRAM = ROOT / "examples" / "obstacle_avoidance.rdcd"
@@ -46,12 +45,6 @@ def compiled() -> CompiledProgram:
     if program.has_errors or not program.injection:
         raise AssertionError(f"{PROGRAM.name} does not compile: {program.diagnostics}")
     return program
-
-
-@functools.cache
-def role_table() -> RoleTable:
-    roles = compiled().roles
-    return RoleTable({r.id: r.name for r in roles}, {r.id: frozenset(r.instance_of) for r in roles})
 
 
 @dataclass
@@ -125,7 +118,7 @@ def start(config: str, *, seed: int = 0, loss: float = 0.0, spacing_s: float | N
     every module and the links are quiet (the spacing the compiler's injection plan asks for)."""
     began = time.perf_counter()
     program, structure = compiled(), load_config(config)
-    world = LatticeWorld(structure, role_table(), seed=seed, packet_loss=loss)
+    world = LatticeWorld(structure, program.role_table(), seed=seed, packet_loss=loss)
     entry_log = world.runtimes[structure.entry].event_log
     injected: dict[tuple[int, int], str] = {}
     for name in program.injection:
@@ -233,7 +226,7 @@ def reverse_scenario(run: LatticeRun, *, limit_s: float = 45.0) -> ReverseResult
         result.reverse_s = round(reverse_end - reverse_start, 2)
     after = {m: _spin(world, m) for m in wheels}
     result.spin = {m: (before[m], during.get(m, 0.0), after[m]) for m in wheels}
-    names = role_table().name
+    names = world.role_table.name
     result.histories = {m: [names(r) for _, r in world.runtimes[m].role_history] for m in wheels}
     result.final_roles = world.roles_by_name()
     result.final_axles = {m: round(world.hals[m].joint_angle_deg(), 1) for m in axles}

@@ -14,7 +14,6 @@ from rdcd_core.semantics import analyze
 from rdcd_core.syntax import parse
 from sim.config import load_config
 from vm.lattice.world import LatticeWorld
-from vm.roles import RoleTable
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -24,9 +23,7 @@ def compiled():
     text = (EXAMPLES / "obstacle_avoidance.rdcd").read_text()
     program = compile_model(analyze(parse(text).program), text=text)
     assert not program.has_errors, program.diagnostics
-    table = RoleTable({r.id: r.name for r in program.roles},
-                      {r.id: frozenset(r.instance_of) for r in program.roles})
-    return program, table
+    return program, program.role_table()
 
 
 def _until_everywhere(world: LatticeWorld, k: int, limit_s: float = 60.0) -> None:

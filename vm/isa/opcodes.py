@@ -127,6 +127,7 @@ MAX_STACK = 16
 MAX_STEPS_PER_RUN = 255
 SLOT_BYTES = 64  # a program store slot holds at most this many bytes (dcd-vm.md §1)
 PROGRAM_SLOTS = 10  # programs a module stores at once
+ROLE_IDS = 14  # a ROLE operand names role 1..ROLE_IDS, 0 (no role) or 255 (any; vm/roles.py)
 
 # The COMMAND operand: the joint's built-in commands, then user command k as USER_COMMAND_BASE + k.
 ROTATE_CW, ROTATE_CCW, STOP, ROTATE_DEGREES, ROTATE_TO = 1, 2, 3, 4, 5

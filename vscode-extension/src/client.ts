@@ -114,11 +114,8 @@ export class ServerManager implements vscode.Disposable {
       // Pushes setting changes to servers that do not pull them with workspace/configuration.
       // eslint-disable-next-line @typescript-eslint/no-deprecated
       synchronize: { configurationSection: "rdcd" },
+      // The server honours rdcd.inlayHints.fragmentSizes: from here at start, then through synchronize.
       initializationOptions: { inlayHints: { fragmentSizes: fragmentSizeHintsEnabled() } },
-      middleware: {
-        provideInlayHints: (document, range, token, next) =>
-          fragmentSizeHintsEnabled() ? next(document, range, token) : [],
-      },
     };
     const client = new LanguageClient("rdcd", "RDCD Language Server", serverOptions, clientOptions);
     this.client = client;

@@ -1,19 +1,9 @@
 // Reads the server's answer to rdcd.showBytecode. No `vscode` import: unit-tested.
 
-/** The listing text: the answer itself, or its `listing`/`text` field. */
+/** The listing text: the server answers with the listing itself, a string (server/commands.py). */
 export function listingText(result: unknown): string {
-  if (typeof result === "string") {
-    return result;
+  if (typeof result !== "string") {
+    throw new Error("The language server returned no listing.");
   }
-  if (typeof result === "object" && result !== null) {
-    const record = result as Record<string, unknown>;
-    for (const key of ["listing", "text", "bytecode"]) {
-      const value = record[key];
-      if (typeof value === "string") {
-        return value;
-      }
-    }
-    return JSON.stringify(result, null, 2);
-  }
-  return "; The language server returned no listing.\n";
+  return result;
 }

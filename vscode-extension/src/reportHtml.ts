@@ -1,20 +1,17 @@
-// Renders a simulation report as the HTML of the result view. No `vscode` import: unit-tested.
-// The report's exact shape belongs to the simulator; this reads the parts it knows (summary,
-// modules and their roles, fragment sizes) tolerantly and shows everything else as JSON.
+// Renders the simulation report (sim/report.py, read by simulateArgs.ts) as the HTML of the result
+// view: its scalar figures as the summary, the modules with their final roles, the fragment sizes,
+// and the whole report as JSON. No `vscode` import: unit-tested.
+import { isRecord, type ReportModule, type SimulationReport } from "./simulateArgs";
 
 export interface ReportView {
-  readonly report: Record<string, unknown>;
+  readonly report: SimulationReport;
   /** The webview URI of the trajectory plot, if there is one. */
   readonly plotSrc?: string | undefined;
   /** The webview's CSP source (webview.cspSource). */
   readonly cspSource: string;
   /** The name of the simulated file. */
   readonly fileName: string;
-  /** The options the simulation ran with. */
-  readonly options?: Readonly<Record<string, unknown>> | undefined;
 }
-
-type Row = Record<string, unknown>;
 
 export function escapeHtml(text: string): string {
   return text
@@ -23,10 +20,6 @@ export function escapeHtml(text: string): string {
     .replace(/>/g, "&gt;")
     .replace(/"/g, "&quot;")
     .replace(/'/g, "&#39;");
-}
-
-function isRecord(value: unknown): value is Row {
-  return typeof value === "object" && value !== null && !Array.isArray(value);
 }
 
 function isScalar(value: unknown): value is string | number | boolean | null {
@@ -58,35 +51,10 @@ function humanize(key: string): string {
   return spaced.charAt(0).toUpperCase() + spaced.slice(1);
 }
 
-function pick(row: Row, keys: readonly string[]): unknown {
-  for (const key of keys) {
-    if (key in row) {
-      return row[key];
-    }
-  }
-  return undefined;
-}
-
-const MODULE_KEYS = ["modules", "roles_per_module", "module_roles", "final_roles"];
-const FRAGMENT_KEYS = ["fragments", "fragment_sizes", "fragmentSizes"];
-const SUMMARY_KEYS = ["summary"];
-const HIDDEN_KEYS = ["plot", "plotPath", "plot_path"];
-
-/** The summary entries: the `summary` object, or else the report's own scalar fields. */
-export function summaryEntries(report: Row): [string, string][] {
+/** The summary: the report's scalar fields, short lists of scalars and small records of scalars. */
+export function summaryEntries(report: SimulationReport): [string, string][] {
   const entries: [string, string][] = [];
-  const summary = report["summary"];
-  if (isRecord(summary)) {
-    for (const [key, value] of Object.entries(summary)) {
-      entries.push([humanize(key), formatValue(value)]);
-    }
-  } else if (typeof summary === "string") {
-    entries.push(["Summary", summary]);
-  }
   for (const [key, value] of Object.entries(report)) {
-    if (SUMMARY_KEYS.includes(key) || HIDDEN_KEYS.includes(key)) {
-      continue;
-    }
     if (isScalar(value) || (Array.isArray(value) && value.length <= 8 && value.every((item) => isScalar(item)))) {
       entries.push([humanize(key), formatValue(value)]);
     } else if (isRecord(value) && Object.keys(value).length <= 6 && Object.values(value).every((item) => isScalar(item))) {
@@ -96,10 +64,10 @@ export function summaryEntries(report: Row): [string, string][] {
   return entries;
 }
 
-/** `name: value` pairs for the cells that have no column of their own; long lists only counted. */
-function detailText(row: Row, used: ReadonlySet<string>): string {
-  return Object.entries(row)
-    .filter(([name, value]) => !used.has(name) && !(Array.isArray(value) && value.length === 0))
+/** `name: value` pairs of what the report says of a module besides its id and final role; long lists only counted. */
+function moduleDetails(module: ReportModule): string {
+  return Object.entries(module)
+    .filter(([name, value]) => name !== "id" && name !== "final_role" && !(Array.isArray(value) && value.length === 0))
     .map(([name, value]) => {
       if (Array.isArray(value) && (value.length > 4 || !value.every((item) => isScalar(item)))) {
         return `${name}: ${value.length} ${value.length === 1 ? "entry" : "entries"}`;
@@ -109,66 +77,19 @@ function detailText(row: Row, used: ReadonlySet<string>): string {
     .join("; ");
 }
 
-function rowsOf(value: unknown, keyName: string, valueName: string): Row[] {
-  if (Array.isArray(value)) {
-    return (value as unknown[]).map((item) => (isRecord(item) ? item : { [valueName]: item }));
-  }
-  if (isRecord(value)) {
-    return Object.entries(value).map(([key, item]) =>
-      isRecord(item) ? { [keyName]: key, ...item } : { [keyName]: key, [valueName]: item },
-    );
-  }
-  return [];
-}
-
 export interface ModuleRow {
   readonly module: string;
   readonly role: string;
   readonly details: string;
 }
 
-/** One row per module: its name or id, its role(s), and the rest of what the report says. */
-export function moduleRows(report: Row): ModuleRow[] {
-  const key = MODULE_KEYS.find((candidate) => candidate in report);
-  if (key === undefined) {
-    return [];
-  }
-  return rowsOf(report[key], "module", "role").map((row) => {
-    const module = pick(row, ["module", "name", "id", "module_id", "index"]);
-    const role = pick(row, ["role", "final_role", "roles"]);
-    const used = new Set(["module", "name", "id", "module_id", "index", "role", "final_role", "roles"]);
-    const details = detailText(row, used);
-    return { module: formatValue(module), role: role === null || role === undefined ? "(none)" : formatValue(role), details };
-  });
-}
-
-export interface FragmentRow {
-  readonly fragment: string;
-  readonly size: string;
-  readonly details: string;
-}
-
-/** One row per compiled fragment with its size in bytes. */
-export function fragmentRows(report: Row): FragmentRow[] {
-  let source: unknown;
-  const key = FRAGMENT_KEYS.find((candidate) => candidate in report);
-  if (key !== undefined) {
-    source = report[key];
-  } else if (isRecord(report["compile"])) {
-    const compile = report["compile"];
-    const inner = FRAGMENT_KEYS.find((candidate) => candidate in compile);
-    source = inner === undefined ? undefined : compile[inner];
-  }
-  return rowsOf(source, "fragment", "size").map((row) => {
-    const names = ["role", "method", "kind", "name", "fragment", "label"]
-      .map((name) => row[name])
-      .filter((value) => value !== undefined && value !== null && value !== "")
-      .map((value) => formatValue(value));
-    const size = pick(row, ["size", "bytes", "program_bytes", "packet_bytes", "length"]);
-    const used = new Set(["role", "method", "kind", "name", "fragment", "label", "size", "bytes", "program_bytes", "packet_bytes", "length"]);
-    const details = detailText(row, used);
-    return { fragment: names.length > 0 ? names.join(" · ") : "?", size: formatValue(size), details };
-  });
+/** One row per module: its id, its final role, and the rest of what the report says of it. */
+export function moduleRows(report: SimulationReport): ModuleRow[] {
+  return report.modules.map((module) => ({
+    module: formatValue(module.id),
+    role: module.final_role ?? "(none)",
+    details: moduleDetails(module),
+  }));
 }
 
 function table(headers: readonly string[], rows: readonly (readonly string[])[], cls: string): string {
@@ -210,11 +131,10 @@ export function renderReportHtml(view: ReportView): string {
   );
 
   const summary = summaryEntries(report);
-  const options = view.options ? Object.entries(view.options).map(([key, value]): [string, string] => [humanize(key), formatValue(value)]) : [];
   sections.push(
     `<section id="summary"><h2>Summary</h2>${
       summary.length > 0 ? table(["", ""], summary, "summary") : "<p>The report has no summary.</p>"
-    }${options.length > 0 && summary.length === 0 ? `<h3>Run options</h3>${table(["", ""], options, "options")}` : ""}</section>`,
+    }</section>`,
   );
 
   const modules = moduleRows(report);
@@ -226,11 +146,10 @@ export function renderReportHtml(view: ReportView): string {
     }</section>`,
   );
 
-  const fragments = fragmentRows(report);
   sections.push(
     `<section id="fragments"><h2>Fragment sizes</h2>${
-      fragments.length > 0
-        ? table(["Fragment", "Bytes", "Details"], fragments.map((row) => [row.fragment, row.size, row.details]), "fragments")
+      report.fragments.length > 0
+        ? table(["Fragment", "Bytes"], report.fragments.map((fragment) => [fragment.name, formatValue(fragment.size)]), "fragments")
         : "<p>The report lists no fragments.</p>"
     }</section>`,
   );
@@ -253,7 +172,7 @@ body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); 
 h1 { font-size: 1.4em; } h2 { font-size: 1.15em; margin-top: 1.4em; } h3 { font-size: 1em; }
 table { border-collapse: collapse; margin: 0.4em 0; }
 th, td { text-align: left; padding: 0.2em 0.8em 0.2em 0; border-bottom: 1px solid var(--vscode-panel-border, #8884); vertical-align: top; }
-table.summary thead, table.options thead { display: none; }
+table.summary thead { display: none; }
 img#trajectory { max-width: 100%; background: white; border: 1px solid var(--vscode-panel-border, #8884); }
 pre { white-space: pre-wrap; font-family: var(--vscode-editor-font-family); font-size: 0.9em; }
 </style>

@@ -49,7 +49,7 @@ export class SimulationView implements vscode.Disposable {
         void vscode.window.showInformationMessage("RDCD: simulation cancelled.");
         return;
       }
-      this.show(fileName, undefined).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
+      this.show(fileName, null).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
       void vscode.window.showErrorMessage(`RDCD: simulation failed: ${message}`);
       return;
     }
@@ -62,7 +62,7 @@ export class SimulationView implements vscode.Disposable {
     }
     const panel = this.show(fileName, result.plotPath);
     const plotSrc =
-      result.plotPath === undefined
+      result.plotPath === null
         ? undefined
         : panel.webview.asWebviewUri(vscode.Uri.file(result.plotPath)).with({ query: `t=${Date.now()}` }).toString();
     panel.webview.html = renderReportHtml({
@@ -70,7 +70,6 @@ export class SimulationView implements vscode.Disposable {
       plotSrc,
       cspSource: panel.webview.cspSource,
       fileName,
-      options: args[1] as unknown as Record<string, unknown>,
     });
   }
 
@@ -83,8 +82,8 @@ export class SimulationView implements vscode.Disposable {
     return document?.languageId === LANGUAGE_ID ? document : undefined;
   }
 
-  private show(fileName: string, plotPath: string | undefined): vscode.WebviewPanel {
-    const roots = plotPath === undefined ? [] : [vscode.Uri.file(path.dirname(plotPath))];
+  private show(fileName: string, plotPath: string | null): vscode.WebviewPanel {
+    const roots = plotPath === null ? [] : [vscode.Uri.file(path.dirname(plotPath))];
     if (this.panel === undefined) {
       this.panel = vscode.window.createWebviewPanel(
         "rdcd.simulation",

@@ -1,4 +1,5 @@
-// Builds the arguments of the server's rdcd.simulate command from the settings. No `vscode` import.
+// Builds the arguments of the server's rdcd.simulate command from the settings, and reads its
+// answer. No `vscode` import.
 
 export interface SimulateSettings {
   readonly config?: unknown;
@@ -70,31 +71,57 @@ export function buildSimulateArgs(uri: string, settings: SimulateSettings): [str
   return [uri, simulateOptions(settings)];
 }
 
-export interface SimulateResult {
-  readonly report: Record<string, unknown>;
-  readonly plotPath: string | undefined;
+export function isRecord(value: unknown): value is Record<string, unknown> {
+  return typeof value === "object" && value !== null && !Array.isArray(value);
 }
 
-/** Reads the server's answer: `{report, plotPath}`, where report may also come as JSON text. */
+/** A module of the simulation report: its id, its final role, and what else the simulator records. */
+export interface ReportModule {
+  readonly id: number;
+  readonly final_role: string | null;
+  readonly [field: string]: unknown;
+}
+
+export interface ReportFragment {
+  readonly name: string;
+  readonly size: number;
+}
+
+/** The report of `rdcd simulate --report` (sim/report.py): modules, fragments and scalar figures. */
+export interface SimulationReport {
+  readonly modules: readonly ReportModule[];
+  readonly fragments: readonly ReportFragment[];
+  readonly [field: string]: unknown;
+}
+
+/** The server's answer to rdcd.simulate (server/commands.py). */
+export interface SimulateResult {
+  readonly report: SimulationReport;
+  /** The trajectory plot, or null when the simulation drew none. */
+  readonly plotPath: string | null;
+}
+
+function isModule(value: unknown): value is ReportModule {
+  return isRecord(value) && typeof value["id"] === "number" && (value["final_role"] === null || typeof value["final_role"] === "string");
+}
+
+function isFragment(value: unknown): value is ReportFragment {
+  return isRecord(value) && typeof value["name"] === "string" && typeof value["size"] === "number";
+}
+
+function isListOf<T>(value: unknown, isItem: (item: unknown) => item is T): value is T[] {
+  return Array.isArray(value) && (value as unknown[]).every(isItem);
+}
+
+/** Reads the server's answer `{report, plotPath}`; throws when it is something else. */
 export function parseSimulateResult(value: unknown): SimulateResult {
-  if (typeof value !== "object" || value === null) {
-    throw new Error("The language server returned no simulation result.");
+  if (!isRecord(value) || !isRecord(value["report"])) {
+    throw new Error("The language server returned no simulation report.");
   }
-  const record = value as Record<string, unknown>;
-  let report: unknown = record["report"];
-  if (typeof report === "string") {
-    try {
-      report = JSON.parse(report) as unknown;
-    } catch {
-      report = { text: report };
-    }
+  const { report, plotPath } = value;
+  const { modules, fragments } = report;
+  if (!isListOf(modules, isModule) || !isListOf(fragments, isFragment) || (plotPath !== null && typeof plotPath !== "string")) {
+    throw new Error("The language server returned a simulation result that is not {report: {modules, fragments, …}, plotPath}.");
   }
-  if (typeof report !== "object" || report === null || Array.isArray(report)) {
-    report = { result: report ?? null };
-  }
-  const plot = record["plotPath"] ?? record["plot_path"];
-  return {
-    report: report as Record<string, unknown>,
-    plotPath: typeof plot === "string" && plot !== "" ? plot : undefined,
-  };
+  return { report: { ...report, modules, fragments }, plotPath };
 }

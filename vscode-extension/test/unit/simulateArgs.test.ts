@@ -34,22 +34,25 @@ describe("buildSimulateArgs", () => {
 });
 
 describe("parseSimulateResult", () => {
+  const report = { config: "car7", modules: [{ id: 0, final_role: null, lattice: [0, 0, 0] }], fragments: [{ name: "f", size: 3 }] };
+
   it("reads {report, plotPath}", () => {
-    const result = parseSimulateResult({ report: { steps: 3 }, plotPath: "/tmp/p.png" });
-    assert.deepEqual(result, { report: { steps: 3 }, plotPath: "/tmp/p.png" });
+    assert.deepEqual(parseSimulateResult({ report, plotPath: "/tmp/p.png" }), { report, plotPath: "/tmp/p.png" });
   });
 
-  it("accepts the report as JSON text and a missing plot", () => {
-    const result = parseSimulateResult({ report: '{"a": 1}', plotPath: null });
-    assert.deepEqual(result, { report: { a: 1 }, plotPath: undefined });
+  it("reads a missing plot as null", () => {
+    assert.deepEqual(parseSimulateResult({ report, plotPath: null }), { report, plotPath: null });
   });
 
-  it("wraps a report that is not an object", () => {
-    assert.deepEqual(parseSimulateResult({ report: "not json" }).report, { text: "not json" });
-    assert.deepEqual(parseSimulateResult({ report: [1, 2] }).report, { result: [1, 2] });
+  it("rejects an answer without a report", () => {
+    assert.throws(() => parseSimulateResult(null), /no simulation report/);
+    assert.throws(() => parseSimulateResult({ report: '{"a": 1}', plotPath: null }), /no simulation report/);
   });
 
-  it("rejects an empty answer", () => {
-    assert.throws(() => parseSimulateResult(null), /no simulation result/);
+  it("rejects a report without its modules and fragments, and a plot path that is not a string", () => {
+    assert.throws(() => parseSimulateResult({ report: { modules: [] }, plotPath: null }), /not \{report/);
+    assert.throws(() => parseSimulateResult({ report: { ...report, modules: [{ id: "0" }] }, plotPath: null }), /not \{report/);
+    assert.throws(() => parseSimulateResult({ report: { ...report, fragments: [{ name: "f" }] }, plotPath: null }), /not \{report/);
+    assert.throws(() => parseSimulateResult({ report }), /not \{report/);
   });
 });

@@ -1,0 +1,238 @@
+"""A DCD-VM module as a node of the structure's network: its frame, packets in and out,
+at-most-once acceptance, and its error and event log. ``vm.runtime.ModuleRuntime`` adds the
+scheduler and what programs call.
+
+Fault tolerance (dcd-vm.md §6), in two parts:
+- delivery: every program, command and notify packet is sent with per-link acknowledgement and
+  retransmission (``vm.runtime_link``), so a fragment crosses each link despite loss; a module
+  whose slots or queue are full does not acknowledge a program, so it is offered again later;
+  headers whose coordinates contradict the parity rule (corruption) are dropped unacknowledged.
+  With ``checksum=True`` (all modules of a world must agree) every packet carries a CRC-8
+  trailer (``vm.packets.seal``) and corrupted packets are dropped unacknowledged, so corruption
+  is as harmless as loss; the default keeps the exact §2 format.
+- at most once: a program is identified by (id, bytes) and a command packet by (id, role,
+  command, argument); a module remembers the programs it has accepted (for ever) and the
+  commands it has seen (for ``COMMAND_MEMORY`` seconds, as command ids wrap), so copies arriving
+  through cycles, retries or delayed packets are acknowledged but never run again. Notifies carry
+  a per-sender sequence number in the id; an older one never overwrites a newer role.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import deque
+from collections.abc import Callable
+
+from vm import navigation as nav
+from vm.hal import ModuleHal
+from vm.isa.verifier import verify
+from vm.packets import (
+    COMMAND,
+    PROGRAM,
+    AckPacket,
+    CommandPacket,
+    NotifyPacket,
+    PacketError,
+    ProgramPacket,
+    decode,
+    header_bytes,
+    make_header,
+    unseal,
+)
+from vm.roles import RoleTable
+from vm.runtime_link import Link
+from vm.runtime_store import PROGRAM as PROGRAM_SLOT
+from vm.runtime_store import Slot, Store, StoreFull, Task
+
+COMMAND_MEMORY = 30.0  # seconds a seen command packet is remembered
+MAX_INBOX = 64
+MAX_LOG = 10_000
+EventHook = Callable[[str, dict[str, object]], None]
+
+
+class ModuleNode:
+    def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
+                 checksum: bool = False) -> None:
+        self.hal = hal
+        self.checksum = checksum
+        self.roles = role_table
+        self.module_id = module_id
+        self.rng = random.Random(seed * 1_000_003 + module_id)
+        self.role = 0
+        self.position: tuple[int, int, int] | None = None
+        self.axis: int | None = None
+        self.mapping: tuple[int, ...] | None = None  # virtual → physical
+        self._p2v: tuple[int, ...] = nav.IDENTITY
+        self.errors: list[tuple[float, str]] = []
+        self.event_log: list[tuple[float, str, dict[str, object]]] = []
+        self.on_event: EventHook | None = None
+        self.neighbour_roles = [0] * 8  # by virtual channel
+        self.store = Store()
+        self.link = Link(hal, self.rng, checksum=checksum)
+        self.bad_packets = 0
+        self.duplicates = 0
+        self._inbox: deque[tuple[int, bytes]] = deque()
+        self._seen_programs: set[tuple[int, bytes]] = set()
+        self._seen_commands: dict[tuple[int, int, int, int], float] = {}
+        self._notify_seq: dict[int, int] = {}  # physical channel → last notify id
+        self._reported: set[object] = set()
+        self._next_inject_id = 1
+        self._next_local_id = self.rng.randrange(256)
+
+    # ---- world interface -------------------------------------------------------------------
+    def receive(self, physical_channel: int, packet: bytes) -> None:
+        if len(self._inbox) >= MAX_INBOX:
+            self._error("receive buffer full, packet dropped")
+            return
+        try:
+            if isinstance(packet, int):  # bytes(n) would make n zero bytes
+                raise TypeError("a packet is bytes")
+            self._inbox.append((int(physical_channel), bytes(packet)))
+        except (TypeError, ValueError, OverflowError):
+            self.bad_packets += 1
+
+    def inject(self, fragment: bytes) -> None:
+        """Enter a fragment here; the first injection defines the frame (origin, NS, identity)."""
+        if self.position is None:
+            self._set_frame((0, 0, 0), nav.NORTH_SOUTH, nav.IDENTITY)
+        ident = self._next_inject_id
+        self._next_inject_id = (ident + 1) & 0xFF
+        try:
+            if isinstance(fragment, int):  # bytes(n) would make n zero bytes
+                raise TypeError("a fragment is bytes")
+            code = bytes(fragment)
+        except (TypeError, ValueError):
+            self._error("inject: the fragment is not bytes")
+            return
+        self._accept_program(code, ident, None, None)
+
+    # ---- packets ---------------------------------------------------------------------------
+    def _handle_packet(self, ch: int, raw: bytes) -> None:
+        if self.checksum:
+            sealed = unseal(raw)
+            if sealed is None:
+                self.bad_packets += 1  # corrupted in transit: stay silent, the sender retries
+                return
+            raw = sealed
+        p = decode(raw)
+        if isinstance(p, PacketError) or not 0 <= ch <= 7:
+            self.bad_packets += 1
+            return
+        if isinstance(p, AckPacket):
+            self.link.on_ack(ch, p)
+            return
+        h = p.header
+        if nav.axis_for_position(h.x, h.y, h.z) != h.r:
+            self.bad_packets += 1  # corrupted header: stay silent, the sender retries
+            return
+        if self.position is None:
+            self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
+        if isinstance(p, ProgramPacket):
+            if self._accept_program(p.code, h.id, ch, h.vch):
+                self.link.send_ack(ch, raw)
+        elif isinstance(p, CommandPacket):
+            self.link.send_ack(ch, raw)
+            self._accept_command(p, ch)
+        elif isinstance(p, NotifyPacket):
+            self.link.send_ack(ch, raw)
+            self._accept_notify(p, ch)
+
+    def _accept_program(self, code: bytes, ident: int, ch: int | None, vch: int | None) -> bool:
+        """Store and queue a program; False when it should be offered again later (no room)."""
+        key = (ident, code)
+        if key in self._seen_programs:
+            self.duplicates += 1
+            return True
+        problems = verify(code)
+        if problems:
+            self._seen_programs.add(key)
+            self._error(f"program {ident} rejected: {'; '.join(problems)}")
+            return True
+        ctx = (*self.position, self.axis, vch) if self.position and self.axis else None
+        try:
+            slot = self.store.add_slot(Slot(code, ident, PROGRAM_SLOT, ch, ctx))
+            try:
+                self.store.queue(Task(slot))
+            except StoreFull:
+                self.store.free_slot(slot)
+                raise
+        except StoreFull as e:
+            self._error_once(("full", key), f"program {ident} not accepted: {e}")
+            return False
+        self._seen_programs.add(key)
+        self._log("program", {"id": ident, "size": len(code)})
+        return True
+
+    def _accept_command(self, p: CommandPacket, ch: int) -> None:
+        key = (p.header.id, p.role, p.command, p.argument & 0xFF)
+        if key in self._seen_commands:
+            self.duplicates += 1
+            return
+        self._seen_commands[key] = self.hal.now()
+        self._flood_command(p.header.id, p.role, p.command, p.argument, exclude=ch)
+        if self.roles.is_instance(self.role, p.role):
+            self._queue_command(p.command, p.argument)
+
+    def _accept_notify(self, p: NotifyPacket, ch: int) -> None:
+        last = self._notify_seq.get(ch)
+        if last is not None and not 0 < (p.header.id - last) & 0xFF < 128:
+            return  # a duplicate or an older notify
+        self._notify_seq[ch] = p.header.id
+        self.neighbour_roles[self._p2v[ch]] = p.role
+
+    # ---- sending ---------------------------------------------------------------------------
+    def _send_all(self, type_: int, ident: int, body: bytes, exclude: int | None) -> None:
+        if self.position is None or self.axis is None:
+            return
+        x, y, z = self.position
+        for ch in sorted(self.hal.connected_channels()):
+            if ch == exclude or not 0 <= ch <= 7:
+                continue
+            rx, ry, rz, raxis, rvch = nav.receiver(x, y, z, self.axis, self._p2v[ch])
+            self.link.send(ch, header_bytes(make_header(type_, ident, rx, ry, rz, raxis, rvch)) + body)
+
+    def _migrate(self, slot: Slot) -> None:
+        ident = slot.ident
+        if slot.kind != PROGRAM_SLOT:  # a handler or command spreading: a new program each time
+            ident = self._local_id()
+            self._seen_programs.add((ident, slot.code))
+        self._send_all(PROGRAM, ident, slot.code, exclude=slot.in_physical)
+
+    def _flood_command(self, ident: int, role: int, command: int, arg: int, exclude: int | None) -> None:
+        self._send_all(COMMAND, ident, bytes((role & 0xFF, command & 0xFF, arg & 0xFF)), exclude)
+
+    # ---- helpers ---------------------------------------------------------------------------
+    def _queue_command(self, command: int, arg: int) -> None:
+        try:
+            self.store.queue(Task(None, arg=arg, command=command))
+        except StoreFull as e:
+            self._error(f"command {command} not run: {e}")
+
+    def _local_id(self) -> int:
+        self._next_local_id = (self._next_local_id + 1) & 0xFF
+        return self._next_local_id
+
+    def _set_frame(self, position: tuple[int, int, int], axis: int, mapping: tuple[int, ...]) -> None:
+        self.position, self.axis, self.mapping = position, axis, mapping
+        self._p2v = nav.invert(mapping)
+
+    def _expire_commands(self) -> None:
+        now = self.hal.now()
+        if self._seen_commands:
+            self._seen_commands = {k: t for k, t in self._seen_commands.items() if now - t < COMMAND_MEMORY}
+
+    def _error(self, message: str) -> None:
+        self.errors.append((self.hal.now(), message))
+        del self.errors[:-MAX_LOG]
+        self._log("error", {"message": message})
+
+    def _error_once(self, key: object, message: str) -> None:
+        if key not in self._reported:
+            self._reported.add(key)
+            self._error(message)
+
+    def _log(self, kind: str, detail: dict[str, object]) -> None:
+        self.event_log.append((self.hal.now(), kind, detail))
+        del self.event_log[:-MAX_LOG]
+        if self.on_event is not None:
+            self.on_event(kind, detail)
