@@ -14,7 +14,7 @@ import pybullet as pb
 
 from sim import geometry as g
 from sim import params
-from sim.poses import link_poses
+from sim.poses import link_poses, to_world
 from sim.robot import Robot
 from vm.lattice.structure import Structure
 
@@ -41,8 +41,8 @@ class Sensors:
         self.watched: set[tuple[int, int]] = set()
         self.values: dict[tuple[int, int], bool] = {}
         self.rising: list[tuple[int, int]] = []  # (module, sensor) that turned on at the last sample
-        # (module, sensor) -> (link, sensor origin in the link frame, ray directions in the link frame)
-        self._rays: dict[tuple[int, int], tuple[int, np.ndarray, np.ndarray]] = {}
+        # (module, sensor) -> (link, sensor origin and the ends of its rays, in the link frame)
+        self._rays: dict[tuple[int, int], tuple[int, g.Vec3, list[g.Vec3]]] = {}
         for mid, spec in structure.modules.items():
             mb = robot.modules[mid]
             for k in range(8):
@@ -50,8 +50,10 @@ class Sensors:
                 direction = g.physical_connector_direction(spec, k)
                 out = params.MODULE_RADIUS + params.IR_SENSOR_OFFSET
                 origin = np.array(mb.offsets[side]) + np.array(direction) * out
-                self._rays[(mid, k)] = (mb.links[side], origin,
-                                        cone(direction, params.IR_RAYS, params.IR_CONE_HALF_ANGLE_DEG))
+                rays = cone(direction, params.IR_RAYS, params.IR_CONE_HALF_ANGLE_DEG)
+                ends = origin + rays * params.IR_RANGE
+                self._rays[(mid, k)] = (mb.links[side], tuple(origin.tolist()),
+                                        [tuple(end) for end in ends.tolist()])
 
     def value(self, module: int, sensor: int) -> bool:
         key = (module, sensor)
@@ -65,16 +67,14 @@ class Sensors:
         if not keys:
             return
         poses = link_poses(self.robot.body, {self._rays[k][0] for k in keys}, self.client)
-        starts, ends = [], []
+        starts: list[g.Vec3] = []
+        ends: list[g.Vec3] = []
         for key in keys:
-            link, local, dirs = self._rays[key]
-            pos, m = poses[link]
-            world = dirs @ m.T
-            origin = pos + m @ local
-            starts.append(np.repeat(origin[None, :], len(dirs), axis=0))
-            ends.append(origin + world * params.IR_RANGE)
-        hits = pb.rayTestBatch(np.concatenate(starts).tolist(), np.concatenate(ends).tolist(),
-                               physicsClientId=self.client)
+            link, origin, tips = self._rays[key]
+            pose = poses[link]
+            starts += [to_world(pose, origin)] * len(tips)
+            ends += [to_world(pose, tip) for tip in tips]
+        hits = pb.rayTestBatch(starts, ends, physicsClientId=self.client)
         n = params.IR_RAYS
         for i, key in enumerate(keys):
             seen = any(h[0] in self.targets for h in hits[i * n:(i + 1) * n])

@@ -13,14 +13,14 @@ import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import numpy as np
 import pybullet as pb
 
+from sim import geometry as g
 from sim import params, quiet
 from sim.hal import PhysicsHal
 from sim.joint import PhysicsJoint
 from sim.obstacles import Box, create_bodies
-from sim.poses import link_poses, quat_matrix
+from sim.poses import link_poses, quat_matrix, to_world
 from sim.robot import Robot, build_robot
 from sim.sensors import Sensors
 from vm.lattice.network import Network
@@ -72,6 +72,10 @@ class PhysicsWorld:
         self._ir_every = max(1, round(params.PHYSICS_HZ / params.IR_RATE_HZ))
         self._track_every = max(1, round(params.PHYSICS_HZ / params.TRAJECTORY_HZ))
         self._dt = 1.0 / params.PHYSICS_HZ
+        # each module's centre: (link of its PLUS hemisphere, centre in that link's frame)
+        self._centres = {mid: (mb.links[g.PLUS], mb.offsets[g.PLUS])
+                         for mid, mb in self.robot.modules.items()}
+        self._centre_links = {link for link, _ in self._centres.values()}
 
     def close(self) -> None:
         if pb.isConnected(self.client):
@@ -106,11 +110,16 @@ class PhysicsWorld:
         end = self.steps + round(duration * params.PHYSICS_HZ)
         if self.steps == 0:
             self.track()
+        every = (self._vm_every, self._ir_every, self._track_every)
+        step, client = pb.stepSimulation, self.client
         while self.steps < end:
             if self.steps % self._vm_every == 0:
                 self.vm_tick()
-            pb.stepSimulation(physicsClientId=self.client)
-            self.steps += 1
+            # physics alone up to the next step that has a VM tick, a sensor or a trajectory sample
+            n = min(end - self.steps, *(k - self.steps % k for k in every))
+            for _ in range(n):
+                step(physicsClientId=client)
+            self.steps += n
             self.time = self.steps * self._dt
             if self.steps % self._ir_every == 0:
                 self.sense()
@@ -125,25 +134,19 @@ class PhysicsWorld:
                 self.on_detection(mid, k)
 
     # --- observation -----------------------------------------------------------------------
-    def module_centres(self) -> dict[int, np.ndarray]:
-        modules = self.robot.modules
-        poses = link_poses(self.robot.body, {mb.links[1] for mb in modules.values()}, self.client)
-        out = {}
-        for mid, mb in modules.items():
-            pos, m = poses[mb.links[1]]
-            out[mid] = pos + m @ np.array(mb.offsets[1])
-        return out
+    def module_centres(self) -> dict[int, g.Vec3]:
+        poses = link_poses(self.robot.body, self._centre_links, self.client)
+        return {mid: to_world(poses[link], offset) for mid, (link, offset) in self._centres.items()}
 
     def heading_deg(self) -> float:
         """Heading of the entry module: 0 = +y, positive counter-clockwise seen from above."""
-        link = self.robot.modules[self.structure.entry].links[1]
-        q = pb.getLinkState(self.robot.body, link, physicsClientId=self.client)[5]
-        forward = quat_matrix(q) @ np.array((0.0, 1.0, 0.0))
-        return math.degrees(math.atan2(-forward[0], forward[1]))
+        link = self._centres[self.structure.entry][0]
+        m = quat_matrix(pb.getLinkState(self.robot.body, link, physicsClientId=self.client)[5])
+        return math.degrees(math.atan2(-m[0][1], m[1][1]))  # the link's +y axis: m's middle column
 
     def centre(self) -> tuple[float, float]:
-        c = np.mean(list(self.module_centres().values()), axis=0)
-        return float(c[0]), float(c[1])
+        centres = self.module_centres().values()
+        return sum(c[0] for c in centres) / len(centres), sum(c[1] for c in centres) / len(centres)
 
     def track(self) -> None:
         x, y = self.centre()

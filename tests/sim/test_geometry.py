@@ -10,7 +10,7 @@ import pytest
 from sim import geometry as g
 from sim import params
 from sim.config import load_config, random_structure
-from sim.poses import link_poses
+from sim.poses import link_poses, to_world
 from sim.robot import build_robot, rigid_groups
 from sim.sensors import Sensors
 from sim.shapes import Part, mass_properties, matrix_to_quat
@@ -26,11 +26,8 @@ def _connector_positions(structure) -> dict[tuple[int, int], np.ndarray]:  # noq
         robot = build_robot(structure, client)
         sensors = Sensors(structure, robot, client)
         poses = link_poses(robot.body, {link for link, _, _ in sensors._rays.values()}, client)
-        out = {}
-        for key, (link, local, _) in sensors._rays.items():
-            pos, m = poses[link]
-            out[key] = pos + m @ local
-        return out
+        return {key: np.array(to_world(poses[link], origin))
+                for key, (link, origin, _) in sensors._rays.items()}
     finally:
         pb.disconnect(client)
 
