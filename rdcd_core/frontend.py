@@ -10,12 +10,13 @@ from functools import cached_property
 from typing import Any
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.gcpause import gc_paused
 from rdcd_core.semantics import analyze
 from rdcd_core.semantics.codes import INTERNAL_ERROR
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast
-from rdcd_core.syntax.parser import parse
+from rdcd_core.syntax.parser import ParseResult, parse
 
 
 @dataclass
@@ -27,6 +28,7 @@ class CheckResult:
     # The CompiledProgram the target checks were made on (error-free programs only): kept so that
     # the editor's fragment sizes do not compile the same text a second time.
     compiled: Any = None
+    parsed: ParseResult | None = None  # the parse of ``text``, for reuse by the check of an edit
 
     @property
     def has_errors(self) -> bool:
@@ -38,15 +40,23 @@ class CheckResult:
         return LineIndex(self.text)
 
 
-def check_text(text: str, *, packet_budget: int = 50) -> CheckResult:
-    """Syntax and semantic diagnostics of ``text`` (plus the compiler's, when error-free)."""
+def check_text(text: str, *, packet_budget: int = 50, previous: ParseResult | None = None) -> CheckResult:
+    """Syntax and semantic diagnostics of ``text`` (plus the compiler's, when error-free).
+
+    ``previous``, the parse of an earlier version of the text (an editor's), only makes it faster.
+    """
+    with gc_paused():
+        return _check(text, packet_budget, previous)
+
+
+def _check(text: str, packet_budget: int, previous: ParseResult | None) -> CheckResult:
     try:
-        parsed = parse(text)
+        parsed = parse(text, previous)
     except Exception as error:  # a parser bug: report it, keep the editor and the CLI alive
         empty = ast.Program((), None, Span(0, len(text)))
         return CheckResult(text, empty, Model(empty, {}, [], []), [_internal(error, "parsing")])
     result = CheckResult(text, parsed.program, Model(parsed.program, {}, [], []),
-                         list(parsed.diagnostics))
+                         list(parsed.diagnostics), parsed=parsed)
     try:
         result.model = analyze(parsed.program)
     except Exception as error:  # a bug must not take the editor or the CLI down

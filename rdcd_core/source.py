@@ -8,7 +8,10 @@ from __future__ import annotations
 import bisect
 from dataclasses import dataclass
 
+from rdcd_core.fastinit import fast_init
 
+
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Span:
     """Half-open range ``[start, end)`` of character offsets into a source text."""
@@ -23,6 +26,7 @@ class Span:
         return self.start <= offset <= self.end
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class LineCol:
     """Zero-based line and zero-based column counted in Unicode code points."""

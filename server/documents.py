@@ -36,7 +36,7 @@ class Document:
     def current(self) -> Analysis:
         """The analysis of the current text (checked now if it has not been yet)."""
         if self.analysis is None:
-            self.analysis = analyze(self.text)
+            self.analysis = analyze(self.text, previous=self.last_good)
             self.analysis._line_index = self.line_index()
             if self.analysis.model is not None and not self.analysis.has_syntax_errors:
                 self.last_good = self.analysis

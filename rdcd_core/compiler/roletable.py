@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from rdcd_core.compiler.program import RoleEntry
 from rdcd_core.semantics.model import Model, RoleKind
+from rdcd_core.semantics.walk import code_nodes
 from rdcd_core.syntax import ast
 
 
@@ -49,7 +50,7 @@ def scan_roles(model: Model) -> tuple[list[str], list[str]]:
     observed: list[str] = []
     assumed: list[str] = []
     for root in _method_bodies(model):
-        for node in ast.walk(root):
+        for node in code_nodes(root):
             if isinstance(node, ast.GlobalCall):
                 observed.append(node.role.text)
             elif isinstance(node, ast.FunctionCall) and node.name.text == "connected_role":

@@ -10,6 +10,7 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.semantics.model import Model, Reference
 from rdcd_core.source import LineIndex
 from rdcd_core.syntax import ast
+from rdcd_core.syntax.parser import ParseResult
 
 
 @dataclass
@@ -24,6 +25,7 @@ class Analysis:
     _compiled: Any = None
     _compile_tried: bool = False
     cache: dict[str, Any] = field(default_factory=dict)  # derived data of this text, per feature
+    parsed: ParseResult | None = None  # for reuse by the analysis of the next edit
 
     @property
     def line_index(self) -> LineIndex:
@@ -69,14 +71,16 @@ class Analysis:
         return self._compiled
 
 
-def analyze(text: str) -> Analysis:
-    """Checks ``text``; never raises (a front-end crash becomes one diagnostic)."""
+def analyze(text: str, previous: Analysis | None = None) -> Analysis:
+    """Checks ``text``; never raises (a front-end crash becomes one diagnostic). ``previous``, the
+    analysis of an earlier version of the text, only makes it faster."""
     try:
         from rdcd_core.frontend import check_text
 
-        result = check_text(text)
+        result = check_text(text, previous=previous.parsed if previous is not None else None)
         return Analysis(text, result.program, result.model, list(result.diagnostics),
-                        _compiled=result.compiled, _compile_tried=result.compiled is not None)
+                        _compiled=result.compiled, _compile_tried=result.compiled is not None,
+                        parsed=result.parsed)
     except Exception as error:  # DESIGN rule 2 says this cannot happen; the editor must survive it
         from rdcd_core.semantics.codes import INTERNAL_ERROR
         from rdcd_core.source import Span

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from operator import attrgetter
+
 from rdcd_core.semantics import conflicts, deployment, limits, members
 from rdcd_core.semantics.bodies import check_bodies
 from rdcd_core.semantics.constants import fold_constants
@@ -30,5 +32,5 @@ def run(program: ast.Program) -> Model:
     conflicts.check_conflicts(ctx, seen)
     deployment.check_dead_roles(ctx)
     model.diagnostics.sort(key=lambda d: (d.span.start, d.span.end, d.code))
-    model.references.sort(key=lambda r: r.name.span.start)
+    model.references.sort(key=attrgetter("name.span.start"))
     return model

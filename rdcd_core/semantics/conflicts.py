@@ -7,6 +7,7 @@ Roles whose invariants use anything else are left out: the analysis cannot decid
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from itertools import product
 
 from rdcd_core import diagnostics as diag
@@ -27,6 +28,9 @@ class _Undecidable(Exception):
     pass
 
 
+_UNKNOWN = object()  # not in the cache yet
+
+
 class _Evaluator:
     def __init__(self, ctx: Context, space: StateSpace) -> None:
         self.ctx = ctx
@@ -36,20 +40,21 @@ class _Evaluator:
 
     def states(self, role: RoleSymbol, refs: list[str], played: frozenset[str]) -> int | None:
         """States where every invariant of ``role`` holds, neighbours playing ``played``."""
-        signature = tuple(r in played for r in refs)
+        signature = tuple([r in played for r in refs]) if refs else ()
         key = (role.name, signature)
-        if key not in self.cache:
+        found = self.cache.get(key, _UNKNOWN)
+        if found is _UNKNOWN:
             matched = {r for r, hit in zip(refs, signature, strict=True) if hit}
             try:
-                states = self.space.full
+                found = self.space.full
                 for invariant in role.invariants:
-                    states &= self._eval(role, invariant.decl.expr, matched).get(1, 0)
-                    if not states:
+                    found &= self._eval(role, invariant.decl.expr, matched).get(1, 0)
+                    if not found:
                         break
-                self.cache[key] = states
             except _Undecidable:
-                self.cache[key] = None
-        return self.cache[key]
+                found = None
+            self.cache[key] = found
+        return found
 
     def _eval(self, role: RoleSymbol, expr: ast.Expr, matched: set[str]) -> Values:
         full = self.space.full
@@ -165,9 +170,11 @@ def check_conflicts(ctx: Context, seen: dict[str, ast.Name]) -> None:
            for d in ctx.model.diagnostics):
         return
     deployed = [ctx.model.roles[name] for name in ctx.model.deployment]
-    space = StateSpace(_coordinate_reps(deployed))
+    shapes: dict[int, _Shape] = {}
+    space = StateSpace(_coordinate_reps(deployed, shapes))
     evaluator = _Evaluator(ctx, space)
     refs = {role.name: _refs(ctx, role) for role in deployed}
+    played: dict[str, frozenset[str]] = {}
     groups: dict[int, list[RoleSymbol]] = {}
     budget = _MAX_PAIR_CHECKS
     for role in deployed:
@@ -175,7 +182,7 @@ def check_conflicts(ctx: Context, seen: dict[str, ast.Name]) -> None:
         if projection is None:
             continue
         if not projection:
-            _report_never(ctx, seen, role, refs[role.name])
+            _report_never(ctx, seen, role, refs[role.name], shapes)
             continue
         found = None
         for key, members in groups.items():
@@ -183,14 +190,14 @@ def check_conflicts(ctx: Context, seen: dict[str, ast.Name]) -> None:
                 continue
             for other in members:
                 budget -= 1
-                found = _conflict(ctx, evaluator, other, role, refs) if budget >= 0 else None
+                found = _conflict(ctx, evaluator, other, role, refs, played) if budget >= 0 else None
                 if found is not None or budget < 0:
                     break
             if found is not None or budget < 0:
                 break
         groups.setdefault(projection, []).append(role)
         if found is not None:
-            _report(ctx, seen, space, role, found)
+            _report(ctx, seen, space, role, found, shapes)
 
 
 def _refs(ctx: Context, role: RoleSymbol) -> list[str]:
@@ -199,12 +206,17 @@ def _refs(ctx: Context, role: RoleSymbol) -> list[str]:
     return sorted({name for name, _ in observed_roles(ctx, role.name)})
 
 
-def _played(ctx: Context, name: str) -> frozenset[str]:
+def _played(ctx: Context, name: str, cache: dict[str, frozenset[str]]) -> frozenset[str]:
     """The roles a neighbour plays when it plays ``name`` (a mixin: applied to its base)."""
-    symbol = ctx.model.roles[name]
-    if symbol.is_mixin:
-        return frozenset({name, *ctx.ancestors(symbol.modifies or name)})
-    return frozenset(ctx.ancestors(name))
+    found = cache.get(name)
+    if found is None:
+        symbol = ctx.model.roles[name]
+        if symbol.is_mixin:
+            found = frozenset({name, *ctx.ancestors(symbol.modifies or name)})
+        else:
+            found = frozenset(ctx.ancestors(name))
+        cache[name] = found
+    return found
 
 
 def _projection(ctx: Context, evaluator: _Evaluator, role: RoleSymbol, refs: list[str]) -> int | None:
@@ -222,10 +234,11 @@ def _projection(ctx: Context, evaluator: _Evaluator, role: RoleSymbol, refs: lis
 
 
 def _conflict(ctx: Context, evaluator: _Evaluator, first: RoleSymbol, second: RoleSymbol,
-              refs: dict[str, list[str]]) -> tuple[RoleSymbol, int, str | None] | None:
+              refs: dict[str, list[str]],
+              played_cache: dict[str, frozenset[str]]) -> tuple[RoleSymbol, int, str | None] | None:
     candidates: list[tuple[frozenset[str], str | None]] = [(frozenset(), None)]
     for name in sorted({*refs[first.name], *refs[second.name]}):
-        candidates.append((_played(ctx, name), name))
+        candidates.append((_played(ctx, name, played_cache), name))
     for played, neighbour in candidates:
         a = evaluator.states(first, refs[first.name], played)
         b = evaluator.states(second, refs[second.name], played)
@@ -237,10 +250,10 @@ def _conflict(ctx: Context, evaluator: _Evaluator, first: RoleSymbol, second: Ro
 
 
 def _report(ctx: Context, seen: dict[str, ast.Name], space: StateSpace, role: RoleSymbol,
-            found: tuple[RoleSymbol, int, str | None]) -> None:
+            found: tuple[RoleSymbol, int, str | None], shapes: dict[int, _Shape]) -> None:
     other, states, neighbour = found
     axis, connset, coords = space.describe(states)
-    used = _features(role) | _features(other)
+    used = _features(role, shapes) | _features(other, shapes)
     parts = []
     if "axis" in used:
         parts.append(f"axis {axis}")
@@ -260,9 +273,10 @@ def _report(ctx: Context, seen: dict[str, ast.Name], space: StateSpace, role: Ro
                "them apart", related=related)
 
 
-def _report_never(ctx: Context, seen: dict[str, ast.Name], role: RoleSymbol, refs: list[str]) -> None:
+def _report_never(ctx: Context, seen: dict[str, ast.Name], role: RoleSymbol, refs: list[str],
+                  shapes: dict[int, _Shape]) -> None:
     """Only where the state space is exact: no neighbour roles, no coordinates."""
-    if refs or _features(role) & {"x", "y", "z"}:
+    if refs or _features(role, shapes) & {"x", "y", "z"}:
         return
     related = tuple(diag.Related(inv.decl.span, f"invariant of '{inv.owner}'")
                     for inv in role.invariants)
@@ -272,39 +286,64 @@ def _report_never(ctx: Context, seen: dict[str, ast.Name], role: RoleSymbol, ref
                related=related)
 
 
-def _features(role: RoleSymbol) -> set[str]:
-    used: set[str] = set()
-    for invariant in role.invariants:
-        for node in expr_nodes(invariant.decl.expr):
+@dataclass(frozen=True, slots=True)
+class _Shape:
+    """What the analysis reads of one invariant: computed once, as inherited invariants repeat in
+    every sub-role."""
+
+    features: frozenset[str]  # of the state: axis, connset, x, y, z
+    coordinates: frozenset[str]  # x, y, z
+    numbers: frozenset[int]  # the integer literals
+    names: tuple[str, ...]  # the bare names (constants, predefined values)
+
+
+def _shape(expr: ast.Expr, shapes: dict[int, _Shape]) -> _Shape:
+    found = shapes.get(id(expr))
+    if found is None:
+        features: set[str] = set()
+        numbers: set[int] = set()
+        names: list[str] = []
+        for node in expr_nodes(expr):
             if isinstance(node, ast.SelfCall):
                 name = node.name.text
                 if name == "center_position":
-                    used.add("axis")
+                    features.add("axis")
                 elif name in ("x", "y", "z"):
-                    used.add(name)
+                    features.add(name)
                 else:
-                    used.add("connset")
+                    features.add("connset")
             elif isinstance(node, ast.FunctionCall):
-                used.add("connset")
+                features.add("connset")
+            elif isinstance(node, ast.IntLit):
+                numbers.add(node.value)
+            elif isinstance(node, ast.NameRef):
+                names.append(node.name.text)
+        found = shapes[id(expr)] = _Shape(frozenset(features), frozenset(features & {"x", "y", "z"}),
+                                          frozenset(numbers), tuple(names))
+    return found
+
+
+def _features(role: RoleSymbol, shapes: dict[int, _Shape]) -> set[str]:
+    used: set[str] = set()
+    for invariant in role.invariants:
+        used |= _shape(invariant.decl.expr, shapes).features
     return used
 
 
-def _coordinate_reps(roles: list[RoleSymbol]) -> dict[str, list[int]]:
+def _coordinate_reps(roles: list[RoleSymbol], shapes: dict[int, _Shape]) -> dict[str, list[int]]:
     """Representative values of x, y, z: around every integer the invariants compare them with."""
     wanted: dict[str, set[int]] = {}
     for role in roles:
         for invariant in role.invariants:
-            nodes = list(expr_nodes(invariant.decl.expr))
-            names = {n.name.text for n in nodes if isinstance(n, ast.SelfCall)} & {"x", "y", "z"}
+            shape = _shape(invariant.decl.expr, shapes)
+            names = shape.coordinates
             if not names:
                 continue
-            numbers = {n.value for n in nodes if isinstance(n, ast.IntLit)}
-            for node in nodes:
-                if isinstance(node, ast.NameRef):
-                    symbol = role.constants.get(node.name.text)
-                    if symbol is not None and symbol.value is not None and \
-                            symbol.value.type is Type.INT:
-                        numbers.add(symbol.value.value)
+            numbers = set(shape.numbers)
+            for name in shape.names:
+                symbol = role.constants.get(name)
+                if symbol is not None and symbol.value is not None and symbol.value.type is Type.INT:
+                    numbers.add(symbol.value.value)
             for name in names:
                 values = wanted.setdefault(name, {0})
                 for number in numbers:

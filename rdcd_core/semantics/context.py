@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.semantics.model import Model, Reference
@@ -16,7 +16,9 @@ class Context:
         self.model = model
         self._seen: set[tuple[str, int, int]] = set()
         self._ref_spans: set[tuple[int, int]] = set()
-        self._ancestors: dict[str, list[str]] = {}
+        # ``role`` and the roles it extends, nearest first (cached): the passes ask very often, and
+        # a dict lookup costs less than a method call
+        self.ancestors: Callable[[str], list[str]] = _Ancestors(model).__getitem__
         self.folding: set[int] = set()  # ids of constant symbols being folded (cycle detection)
         self.folded: set[int] = set()
         # plain-method calls: id(caller MethodDecl) -> [(callee MethodDecl, call name)]
@@ -51,16 +53,21 @@ class Context:
         self._ref_spans.add(key)
         self.model.references.append(Reference(name, kind, target, is_definition))
 
-    # -- hierarchy (cached) ------------------------------------------------------------
-    def ancestors(self, role: str) -> list[str]:
-        cached = self._ancestors.get(role)
-        if cached is None:
-            cached = self.model.ancestors(role)
-            self._ancestors[role] = cached
-        return cached
-
+    # -- hierarchy ---------------------------------------------------------------------
     def is_subrole(self, role: str, ancestor: str) -> bool:
         return ancestor in self.ancestors(role)
+
+
+class _Ancestors(dict[str, list[str]]):
+    """role -> ``model.ancestors(role)``, computed on first use."""
+
+    def __init__(self, model: Model) -> None:
+        super().__init__()
+        self.model = model
+
+    def __missing__(self, role: str) -> list[str]:
+        chain = self[role] = self.model.ancestors(role)
+        return chain
 
 
 def did_you_mean(name: str, candidates: Iterable[str], span: Span) -> tuple[str, tuple[diag.Fix, ...]]:

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from rdcd_core.fastinit import fast_init
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.model import ConstantSymbol, MethodSymbol, RoleSymbol
 from rdcd_core.syntax import ast
 
 
-@dataclass(frozen=True)
+@fast_init
+@dataclass(frozen=True, slots=True)
 class Env:
     ctx: Context
     role: RoleSymbol  # the role the module plays: a concrete owner of the code, or its declarer

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.fastinit import fast_init
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
 
@@ -23,6 +24,7 @@ class RoleKind(StrEnum):
     MIXIN = "mixin"
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Value:
     """A folded compile-time value: an int8, or the code of an axis, dir, event or role."""
@@ -77,6 +79,7 @@ class RoleSymbol:
         return self.kind is RoleKind.MIXIN
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Reference:
     """A name occurrence resolved to a symbol: for navigation, rename, highlight and hover.

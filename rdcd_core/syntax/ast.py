@@ -10,9 +10,11 @@ from dataclasses import dataclass, field, fields
 from enum import StrEnum
 from typing import Any, Union
 
+from rdcd_core.fastinit import fast_init
 from rdcd_core.source import Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Name:
     """An identifier occurrence."""
@@ -21,6 +23,7 @@ class Name:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Comment:
     text: str  # including the // or /* */ delimiters
@@ -30,12 +33,14 @@ class Comment:
 # ----------------------------------------------------------------------------- expressions
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class IntLit:
     value: int  # non-negative as written; unary minus is a Unary node
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class NameRef:
     """A bare name in an expression: a constant, a predefined value or a role."""
@@ -44,6 +49,7 @@ class NameRef:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Unary:
     op: str  # "-" or "!"
@@ -51,6 +57,7 @@ class Unary:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Binary:
     op: str  # || && == != < > <= >= + -
@@ -60,12 +67,14 @@ class Binary:
     op_span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Paren:
     expr: Expr
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class SelfCall:
     """``self.name(args)`` or ``self.name`` (``has_parens`` False: a zero-argument query)."""
@@ -76,6 +85,7 @@ class SelfCall:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class FunctionCall:
     """``name(args)``: the functions ``sizeof`` and ``connected_role``."""
@@ -85,6 +95,7 @@ class FunctionCall:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class GlobalCall:
     """``Role.command()``: a global command call."""
@@ -101,23 +112,27 @@ Expr = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, Glob
 # ----------------------------------------------------------------------------- statements
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Block:
     statements: tuple[Stmt, ...]
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class EmptyStmt:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class CallStmt:
     call: Call
     span: Span  # includes the trailing ';'
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class IfStmt:
     condition: Expr
@@ -133,6 +148,7 @@ Arg = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, Globa
 # ----------------------------------------------------------------------------- members
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class AbstractConstants:
     """``abstract constant a, b;``"""
@@ -141,6 +157,7 @@ class AbstractConstants:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class ConstantDef:
     """``constant a := expr;``"""
@@ -150,6 +167,7 @@ class ConstantDef:
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Invariant:
     expr: Expr
@@ -163,12 +181,17 @@ class MethodKind(StrEnum):
     PLAIN = "plain"
 
 
+_METHOD_KINDS = {kind.value: kind for kind in MethodKind}  # faster than MethodKind(keyword)
+
+
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Modifier:
     keyword: str  # abstract | startup | behavior | command
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class MethodDecl:
     name: Name
@@ -184,7 +207,7 @@ class MethodDecl:
     def kind(self) -> MethodKind:
         for modifier in self.modifiers:
             if modifier.keyword != "abstract":
-                return MethodKind(modifier.keyword)
+                return _METHOD_KINDS[modifier.keyword]
         return MethodKind.PLAIN
 
 
@@ -193,6 +216,7 @@ Member = Union[AbstractConstants, ConstantDef, Invariant, MethodDecl]
 # ----------------------------------------------------------------------------- program
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class RoleDecl:
     name: Name
@@ -205,12 +229,14 @@ class RoleDecl:
     abstract_span: Span | None = None  # the 'abstract' keyword, if present
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Deployment:
     roles: tuple[Name, ...]
     span: Span
 
 
+@fast_init
 @dataclass(frozen=True, slots=True)
 class Program:
     roles: tuple[RoleDecl, ...]
@@ -230,13 +256,15 @@ def unparen(expr: Expr) -> Expr:
 
 
 _NOT_CHILDREN = frozenset({"span", "op_span", "header_span", "abstract_span", "else_span", "comments"})
+_SCALAR_TYPES = frozenset({"str", "int", "bool"})  # annotations of fields that never hold a node
 _CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
 
 
 def _child_fields(cls: type) -> tuple[str, ...]:
     names = _CHILD_FIELDS.get(cls)
     if names is None:  # dataclasses.fields() is slow: computed once per class
-        names = _CHILD_FIELDS[cls] = tuple(f.name for f in fields(cls) if f.name not in _NOT_CHILDREN)
+        names = _CHILD_FIELDS[cls] = tuple(f.name for f in fields(cls)
+                                           if f.name not in _NOT_CHILDREN and f.type not in _SCALAR_TYPES)
     return names
 
 
@@ -246,7 +274,7 @@ def children(node: Node) -> list[Node]:
     for name in _child_fields(type(node)):
         value = getattr(node, name)
         if isinstance(value, tuple):
-            result.extend(v for v in value if hasattr(v, "span"))
+            result.extend([v for v in value if hasattr(v, "span")])
         elif hasattr(value, "span"):
             result.append(value)
     return result
@@ -258,7 +286,9 @@ def walk(node: Node):  # type: ignore[no-untyped-def]
     while stack:
         current = stack.pop()
         yield current
-        stack.extend(reversed(children(current)))
+        nodes = children(current)
+        nodes.reverse()
+        stack += nodes
 
 
 def strip_spans(node: Any) -> Any:

@@ -8,6 +8,7 @@ and give the exact spans), an AST node, a list (``args``), a tuple (super-role c
 from __future__ import annotations
 
 import threading
+from collections import defaultdict
 from typing import Any
 
 from rdcd_core.source import Span
@@ -25,7 +26,7 @@ class _Depths(threading.local):
         self.reset()
 
     def reset(self) -> list:
-        self.depth: dict[int, int] = {}
+        self.depth: defaultdict[int, int] = defaultdict(int)  # by id; 0 for tokens and leaves
         self.keep: list = []  # holds the nodes, so that their ids stay unique during the parse
         self.too_deep: list = []
         return self.too_deep
@@ -43,8 +44,7 @@ def _nested(node: Any, depth: int) -> Any:
 
 
 def _deepest(children: Any) -> int:
-    get = DEPTHS.depth.get
-    return max((get(id(child), 0) for child in children), default=0)
+    return max(map(DEPTHS.depth.__getitem__, map(id, children)), default=0)
 
 
 def _span(first: Any, last: Any) -> Span:
@@ -58,10 +58,9 @@ def _name(tok: Tok) -> ast.Name:
 
 
 def _args(children: list) -> tuple:
-    for child in children:
-        if isinstance(child, list):
-            return tuple(child)
-    return ()
+    """The arguments of a call: the list of the ``args`` rule, just before the ')' if any."""
+    args = children[-2]
+    return tuple(args) if isinstance(args, list) else ()
 
 
 class AstBuilder:
@@ -124,7 +123,7 @@ class AstBuilder:
         return ast.EmptyStmt(Span(c[0].start, c[0].end))
 
     def call_stmt(self, c: list) -> ast.CallStmt:
-        return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), DEPTHS.depth.get(id(c[0]), 0) + 1)
+        return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), DEPTHS.depth[id(c[0])] + 1)
 
     def if_stmt(self, c: list) -> ast.IfStmt:
         else_kw = c[5] if len(c) > 6 else None
@@ -157,12 +156,12 @@ class AstBuilder:
 
     def binary(self, c: list) -> ast.Binary:
         left, op, right = c
-        get = DEPTHS.depth.get
-        depth = max(get(id(left), 0), get(id(right), 0)) + 1
+        depths = DEPTHS.depth
+        depth = max(depths[id(left)], depths[id(right)]) + 1
         return _nested(ast.Binary(op.value, left, right, _span(left, right), Span(op.start, op.end)), depth)
 
     def unary(self, c: list) -> ast.Unary:
-        return _nested(ast.Unary(c[0].value, c[1], _span(c[0], c[1])), DEPTHS.depth.get(id(c[1]), 0) + 1)
+        return _nested(ast.Unary(c[0].value, c[1], _span(c[0], c[1])), DEPTHS.depth[id(c[1])] + 1)
 
     def int_lit(self, c: list) -> ast.IntLit:
         tok = c[0]
@@ -177,4 +176,4 @@ class AstBuilder:
         return ast.NameRef(name, name.span)
 
     def paren(self, c: list) -> ast.Paren:
-        return _nested(ast.Paren(c[1], _span(c[0], c[2])), DEPTHS.depth.get(id(c[1]), 0) + 1)
+        return _nested(ast.Paren(c[1], _span(c[0], c[2])), DEPTHS.depth[id(c[1])] + 1)

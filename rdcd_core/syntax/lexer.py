@@ -1,7 +1,9 @@
 """The RDCD lexer, derived from the terminals of grammar.lark.
 
-One master regular expression, built from the grammar's terminal definitions, splits the text;
-keywords are NAME matches looked up in a table. Comments are kept (for ``Program.comments``).
+One regular expression, built from the grammar's terminal definitions, splits the text into
+(white space, token) pairs in a single ``findall``; keywords and punctuation are looked up in a
+table, names and numbers told by their first character. Comments are kept (for
+``Program.comments``).
 Bad characters and an unterminated ``/*`` become diagnostics: the lexer never raises.
 """
 
@@ -31,7 +33,9 @@ class Tok:
         return f"Tok({self.type}, {self.value!r}, {self.start}, {self.end})"
 
 
-_IGNORED = ("WS", "LINE_COMMENT", "BLOCK_COMMENT")
+# the first characters of grammar.lark's NAME and INT
+_NAME_START = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
+_DIGITS = frozenset("0123456789")
 _HINTS = {
     "=": "use ':=' to define a constant or '==' to compare",
     ":": "did you mean ':='?",
@@ -66,61 +70,66 @@ class Lexer:
                 regex[name] = pattern.to_regexp()
         literal.sort(key=lambda item: -len(item[1]))
         self.literals = {value: name for name, value in literal}
-        parts = [f"(?P<{name}>{regex[name]})" for name in _IGNORED]
-        parts.append(r"(?P<OPEN_COMMENT>/\*)")
-        parts.append(f"(?P<NAME>{regex['NAME']})")
-        parts.append(f"(?P<INT>{regex['INT']})")
-        parts.append("(?P<PUNCT>" + "|".join(re.escape(value) for _, value in literal) + ")")
-        parts.append("(?P<HINTED>[" + re.escape("".join(_HINTS)) + "])")
-        parts.append(r"(?P<BAD>[^ \t\f\r\n])")
-        self.master = re.compile("|".join(parts), re.ASCII)
+        self._types = {**self.keywords, **self.literals}  # the token text -> its type, but for NAME/INT
+        # One match per token: (the white space before it, the token). The white space is atomic, so
+        # that trailing white space never backtracks into a BAD token. The most frequent tokens are
+        # tried first, longer punctuation before shorter. A '/*' without its '*/' takes the rest of
+        # the text (the lexer stops there). Anything else is a one-character BAD token.
+        space = f"(?>(?:{regex['WS']})?)"
+        longer = [re.escape(value) for _, value in literal if len(value) > 1]
+        single = "".join(re.escape(value) for _, value in literal if len(value) == 1)
+        token = "|".join([regex["NAME"], regex["INT"], *longer, f"[{single}]", regex["LINE_COMMENT"],
+                          regex["BLOCK_COMMENT"], r"/\*(?:.|\n)*", r"[^ \t\f\r\n]"])
+        self.scanner = re.compile(f"({space})({token})", re.ASCII)
+        if self.scanner.groups != 2:
+            raise ValueError("the regular expressions of grammar.lark's terminals must not capture: "
+                             "write (?:...) for their groups")
 
-    def lex(self, text: str) -> LexResult:
+    def lex(self, text: str, pos: int = 0, endpos: int | None = None) -> LexResult:
+        """The tokens of ``text``, or of ``text[pos:endpos]`` (as for ``re``; offsets stay those of
+        ``text``): a stretch that starts where a token can start."""
         tokens: list[Tok] = []
         comments: list[Comment] = []
         diagnostics: list[Diagnostic] = []
         after_error: set[int] = set()
-        keywords = self.keywords
-        literals = self.literals
+        types = self._types
         append = tokens.append
         bad_start = -1
         bad_end = -1
-        for match in self.master.finditer(text):
-            kind = match.lastgroup
-            if kind == "NAME":
-                value = match.group()
-                append(Tok(keywords.get(value, "NAME"), value, match.start(), match.end()))
-                continue
-            if kind == "PUNCT":
-                value = match.group()
-                append(Tok(literals[value], value, match.start(), match.end()))
-                continue
-            if kind == "INT":
-                append(Tok("INT", match.group(), match.start(), match.end()))
-                continue
-            if kind == "WS":
-                continue
-            start = match.start()
-            if kind == "HINTED":  # kept as a BAD token: the parser tries what it may have meant
-                value = match.group()
-                diagnostics.append(make(E_BAD_CHARACTER, Span(start, match.end()),
-                                        f"unexpected character {value!r}: {_HINTS[value]}"))
-                append(Tok("BAD", value, start, match.end()))
-                continue
-            if kind == "BAD":
-                if start == bad_end:
-                    bad_end = match.end()
+        end = pos
+        for space, value in self.scanner.findall(text, pos, len(text) if endpos is None else endpos):
+            start = end + len(space)
+            end = start + len(value)
+            kind = types.get(value)
+            if kind is None:
+                first = value[0]
+                if first in _NAME_START:
+                    kind = "NAME"
+                elif first in _DIGITS:
+                    kind = "INT"
+                elif value[:2] == "//":
+                    comments.append(Comment(value, Span(start, end)))
+                    continue
+                elif value[:2] == "/*":
+                    comments.append(Comment(value, Span(start, end)))
+                    if len(value) < 4 or not value.endswith("*/"):  # runs to the end of the text
+                        diagnostics.append(make(E_UNTERMINATED_COMMENT, Span(start, start + 2),
+                                                "unterminated comment: this '/*' has no matching '*/'"))
+                        break
+                    continue
+                elif value in _HINTS:  # kept as a BAD token: the parser tries what it may have meant
+                    diagnostics.append(make(E_BAD_CHARACTER, Span(start, end),
+                                            f"unexpected character {value!r}: {_HINTS[value]}"))
+                    kind = "BAD"
                 else:
-                    self._flush_bad(text, bad_start, bad_end, diagnostics)
-                    bad_start, bad_end = start, match.end()
-                after_error.add(len(tokens))
-                continue
-            if kind == "OPEN_COMMENT":  # a /* without its */: the comment runs to the end
-                comments.append(Comment(text[start:], Span(start, len(text))))
-                diagnostics.append(make(E_UNTERMINATED_COMMENT, Span(start, start + 2),
-                                        "unterminated comment: this '/*' has no matching '*/'"))
-                break
-            comments.append(Comment(match.group(), Span(start, match.end())))
+                    if start == bad_end:
+                        bad_end = end
+                    else:
+                        self._flush_bad(text, bad_start, bad_end, diagnostics)
+                        bad_start, bad_end = start, end
+                    after_error.add(len(tokens))
+                    continue
+            append(Tok(kind, value, start, end))
         self._flush_bad(text, bad_start, bad_end, diagnostics)
         diagnostics.sort(key=lambda d: d.span.start)
         return LexResult(tokens, comments, diagnostics, after_error)

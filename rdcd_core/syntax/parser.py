@@ -3,19 +3,23 @@
 The LALR(1) table and the AST callbacks come from Lark (grammar.lark, builder.py); this module
 drives them token by token so that it can recover from errors (recovery.py) and report every
 independent syntax error of a file. Nothing here raises on user input.
+
+An editor re-parses after every edit: given the previous result, the parser takes each role it
+finds unchanged at the same offset as it is, instead of lexing and parsing it again.
 """
 
 from __future__ import annotations
 
-import gc
+import bisect
 from dataclasses import dataclass, field, replace
 
 from rdcd_core.diagnostics import Diagnostic, make
+from rdcd_core.gcpause import gc_paused
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.builder import DEPTHS, MAX_DEPTH
 from rdcd_core.syntax.codes import E_MISSING_BODY, E_MISSING_DEPLOYMENT, E_TOO_DEEP, E_UNTERMINATED_COMMENT
-from rdcd_core.syntax.lexer import Tok
+from rdcd_core.syntax.lexer import LexResult, Tok
 from rdcd_core.syntax.recovery import Recovery
 from rdcd_core.syntax.tables import Tables, tables
 
@@ -26,34 +30,40 @@ __all__ = ["ParseResult", "parse"]
 class ParseResult:
     program: ast.Program
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    text: str = ""  # the text parsed
 
     @property
     def ok(self) -> bool:
         return not self.diagnostics
 
 
-def parse(text: str) -> ParseResult:
-    """Parses ``text``; on errors the program holds everything that could be recovered."""
-    # The parser allocates many small objects and no cycles: the cyclic GC would only rescan
-    # the heap again and again (up to a third of the time on large files).
-    gc_was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        return _parse(text)
-    finally:
-        if gc_was_enabled:
-            gc.enable()
+def parse(text: str, previous: ParseResult | None = None) -> ParseResult:
+    """Parses ``text``; on errors the program holds everything that could be recovered.
+
+    ``previous``, the result for an earlier version of the text, only makes it faster: the roles it
+    has unchanged at the same offset are reused (when it has no diagnostics).
+    """
+    with gc_paused():
+        return _parse(text, previous)
 
 
-def _parse(text: str) -> ParseResult:
+def _parse(text: str, previous: ParseResult | None) -> ParseResult:
     t = tables()
+    if previous is not None and previous.ok:
+        reuse = _reuse(t, text, previous)
+        if reuse is not None:
+            lexed, reused = reuse
+            driven = _run(t, text, lexed, reused)
+            if driven is not None:
+                return _result(text, lexed, driven)
     lexed = t.lexer.lex(text)
-    recovery = Recovery(t, text, lexed.tokens, lexed.after_error)
-    too_deep = DEPTHS.reset()
-    try:
-        roles, deployment = _drive(t, lexed.tokens, recovery)
-    finally:
-        DEPTHS.reset()
+    driven = _run(t, text, lexed, None)
+    assert driven is not None  # only a drive that reuses roles gives up
+    return _result(text, lexed, driven)
+
+
+def _result(text: str, lexed: LexResult, driven: tuple[tuple, Recovery, list]) -> ParseResult:
+    (roles, deployment), recovery, too_deep = driven
     if too_deep:
         roles = _drop_too_deep(roles, too_deep, recovery.diagnostics)
     if deployment is None:
@@ -68,12 +78,90 @@ def _parse(text: str) -> ParseResult:
                                 "missing deployment: end the program with 'deployment { RoleA, RoleB }'"))
     diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
     program = ast.Program(roles, deployment, Span(0, len(text)), tuple(lexed.comments))
-    return ParseResult(program, diagnostics)
+    return ParseResult(program, diagnostics, text)
 
 
-def _drive(t: Tables, tokens: list[Tok], recovery: Recovery) -> tuple:
-    """The LALR loop of lark's ParserState.feed_token, inlined, with a hook for recovery."""
+_SPACE = " \t\f\r\n\ufeff"  # grammar.lark's WS
+
+
+def _reuse(t: Tables, text: str, previous: ParseResult) -> tuple[LexResult, dict[int, ast.RoleDecl]] | None:
+    """The tokens of ``text`` where each role of ``previous`` (a parse without diagnostics) found
+    unchanged at its offset is one placeholder token (its first), with those roles by the index of
+    their placeholder; None if nothing is reused, or if a stretch between them does not lex cleanly.
+
+    Lexing resumes at the end of a role (its '}' ends a token), and a stretch lexed up to a role
+    gives the tokens the whole text gives if its last one ends before the role or cannot go on
+    (punctuation, a block comment). A role's tree depends only on its tokens, so the driver can
+    push it whole where the parser is between roles.
+    """
+    lexer = t.lexer
+    old = previous.text
+    old_comments = previous.program.comments
+    comment_starts = [comment.span.start for comment in old_comments]
+    tokens: list[Tok] = []
+    comments: list[ast.Comment] = []
+    reused: dict[int, ast.RoleDecl] = {}
+    position = 0
+    for role in previous.program.roles:
+        start, end = role.span.start, role.span.end
+        if not text.startswith(old[start:end], start):
+            continue
+        if text[position:start].strip(_SPACE):
+            stretch = lexer.lex(text, position, start)
+            if stretch.diagnostics or not _ends_cleanly(stretch, start, lexer.literals):
+                return None
+            tokens += stretch.tokens
+            comments += stretch.comments
+        first = "abstract" if text.startswith("abstract", start) else "role"
+        reused[len(tokens)] = role
+        tokens.append(Tok(lexer.keywords[first], first, start, start + len(first)))
+        comments += old_comments[bisect.bisect_left(comment_starts, start):
+                                 bisect.bisect_left(comment_starts, end)]
+        position = end
+    if not reused:
+        return None
+    rest = lexer.lex(text, position)
+    if rest.diagnostics:
+        return None
+    tokens += rest.tokens
+    comments += rest.comments
+    return LexResult(tokens, comments, [], set()), reused
+
+
+def _ends_cleanly(stretch: LexResult, end: int, punctuation: dict[str, str]) -> bool:
+    """Whether the last token or comment of ``stretch``, lexed up to ``end``, is the same when the
+    text goes on."""
+    last_token = stretch.tokens[-1] if stretch.tokens else None
+    last_comment = stretch.comments[-1] if stretch.comments else None
+    if last_comment is not None and (last_token is None or last_comment.span.start > last_token.start):
+        return last_comment.span.end < end or last_comment.text.startswith("/*")
+    return last_token is None or last_token.end < end or last_token.value in punctuation
+
+
+def _run(t: Tables, text: str, lexed: LexResult,
+         reused: dict[int, ast.RoleDecl] | None) -> tuple[tuple, Recovery, list] | None:
+    """(roles and deployment, the recovery state, the trees nested too deeply) of one drive;
+    None if reusing roles met a syntax error."""
+    recovery = Recovery(t, text, lexed.tokens, lexed.after_error)
+    too_deep = DEPTHS.reset()
+    try:
+        driven = _drive(t, lexed.tokens, recovery, reused)
+    finally:
+        DEPTHS.reset()
+    return None if driven is None else (driven, recovery, too_deep)
+
+
+def _drive(t: Tables, tokens: list[Tok], recovery: Recovery,
+           reused: dict[int, ast.RoleDecl] | None) -> tuple | None:
+    """The LALR loop of lark's ParserState.feed_token, inlined, with a hook for recovery.
+
+    With ``reused`` (from ``_reuse``), the role of a placeholder token is pushed whole where the
+    parser is between roles, and anything else (a placeholder elsewhere, a syntax error) gives None
+    instead of a recovery: the caller then parses the whole text again.
+    """
     states = t.states
+    role_states = t.role_states
+    after_unit_rules = t.after_unit_rules
     end_state = t.end_state
     stack = [t.start_state]
     values: list = []
@@ -81,6 +169,7 @@ def _drive(t: Tables, tokens: list[Tok], recovery: Recovery) -> tuple:
     eof = Tok("$END", "", recovery.eof_offset, recovery.eof_offset)
     pending: list[Tok] = []  # tokens inserted by the recovery, fed before tokens[i] (last first)
     i = 0
+    shifted = 0  # real tokens shifted since the last call of the recovery (added to its count there)
     while True:
         tok = pending[-1] if pending else (tokens[i] if i < n else eof)
         ttype = tok.type
@@ -90,12 +179,18 @@ def _drive(t: Tables, tokens: list[Tok], recovery: Recovery) -> tuple:
                 break
             is_shift, arg = action
             if is_shift:
-                stack.append(arg)
-                values.append(tok)
+                if reused is not None and i in reused:  # as if the role's tokens were shifted and reduced
+                    if stack[-1] not in role_states:
+                        return None
+                    stack.append(states[stack[-1]]["role"][1])
+                    values.append(reused[i])
+                else:
+                    stack.append(arg)
+                    values.append(tok)
                 break
             size, origin, callback = arg
-            if callback is None:  # a unit rule: only the state changes
-                stack[-1] = states[stack[-2]][origin][1]
+            if callback is None:  # a unit rule, and those that follow it: only the state changes
+                stack[-1] = after_unit_rules(stack[-2], stack[-1], ttype)
                 continue
             if size:
                 children = values[-size:]
@@ -112,11 +207,15 @@ def _drive(t: Tables, tokens: list[Tok], recovery: Recovery) -> tuple:
                 pending.pop()
             else:
                 i += 1
-                recovery.shifted += 1
+                shifted += 1
             continue
         if pending:  # an inserted token that does not fit after all: drop it
             pending.pop()
             continue
+        if reused is not None:
+            return None
+        recovery.shifted += shifted
+        shifted = 0
         i, inserted = recovery.recover(stack, values, i, tok)
         pending.extend(reversed(inserted))
 
