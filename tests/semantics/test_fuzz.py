@@ -2,19 +2,16 @@
 
 from __future__ import annotations
 
-import re
-
 from hypothesis import given
 from hypothesis import strategies as st
 
 from rdcd_core.frontend import check_text
 from rdcd_core.semantics import analyze
 from rdcd_core.syntax.parser import parse
-from tests.conftest import EXAMPLES
+from tests.syntax.fuzz_inputs import mutated_sources, spaced_tokens
 
-SOURCES = [(EXAMPLES / name).read_text(encoding="utf-8")
-           for name in ("obstacle_avoidance.rdcd", "snake_wave.rdcd", "figure5_verbatim.rdcd")]
-TOKENS = [re.findall(r"\w+|\S|\s+", text) for text in SOURCES]
+SOURCES = mutated_sources()
+TOKENS = [spaced_tokens(text) for text in SOURCES]
 VOCABULARY = sorted({t for tokens in TOKENS for t in tokens if not t.isspace()} | {
     "modifies", "extends", "abstract", "command", "behavior", "Module", "-128", "200", "{", "}",
     "(", ")", ";", ",", ".", "self", "Wheel", "Reverse", "Segment", "Head", "assumeRole",

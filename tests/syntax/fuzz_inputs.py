@@ -1,5 +1,6 @@
-"""Fuzz inputs shared by tests/syntax/test_fuzz.py and benchmarks/parse_fuzz.py: the example
-programs cut into tokens, the language's punctuation, and token-level edits."""
+"""Fuzz inputs shared by the fuzz tests (syntax, semantics, the VM's whole chain) and
+benchmarks/parse_fuzz.py: the example programs cut into tokens, the language's punctuation, and
+token-level edits."""
 
 from __future__ import annotations
 
@@ -12,8 +13,22 @@ PUNCT = ["{", "}", "(", ")", ",", ";", ".", ":=", "||", "&&", "==", "!=", "<", "
          "+", "-", "!"]
 
 
+# the programs the checker's and the VM's fuzzers mutate: the two examples and Figure 5 as printed
+MUTATED_EXAMPLES = ("obstacle_avoidance.rdcd", "snake_wave.rdcd", "figure5_verbatim.rdcd")
+
+
 def example_sources() -> list[str]:
     return [path.read_text(encoding="utf-8") for path in sorted(EXAMPLES.glob("*.rdcd"))]
+
+
+def mutated_sources() -> list[str]:
+    return [(EXAMPLES / name).read_text(encoding="utf-8") for name in MUTATED_EXAMPLES]
+
+
+def spaced_tokens(text: str) -> list[str]:
+    """``text`` cut into words, single other characters and runs of whitespace: joined, they give
+    ``text`` back, so an edit keeps the rest of the program as it was written."""
+    return re.findall(r"\w+|\S|\s+", text)
 
 
 def tokens_of(text: str) -> list[str]:

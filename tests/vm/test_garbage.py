@@ -5,8 +5,6 @@ programs that check without errors compile to fragments that all verify."""
 
 from __future__ import annotations
 
-import re
-
 import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
@@ -14,7 +12,7 @@ from vm_fakes import FakeHal
 
 from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
-from tests.conftest import EXAMPLES
+from tests.syntax.fuzz_inputs import mutated_sources, spaced_tokens
 from vm import navigation as nav
 from vm.isa.assembler import assemble
 from vm.isa.disassembler import boundaries, disassemble, reachable, to_text
@@ -25,8 +23,7 @@ from vm.runtime import ModuleRuntime
 from vm.runtime_store import QUEUE, SLOTS
 
 ROLES = RoleTable({1: "A", 2: "B", 3: "C"}, {2: frozenset({1})})
-SOURCES = [(EXAMPLES / name).read_text(encoding="utf-8")
-           for name in ("obstacle_avoidance.rdcd", "snake_wave.rdcd", "figure5_verbatim.rdcd")]
+SOURCES = mutated_sources()
 
 
 def _compiled(text: str) -> list[bytes]:
@@ -160,7 +157,7 @@ def test_non_bytes_never_raise() -> None:
 
 # ------------------------------------------------------------------ the whole chain
 
-TOKENS = [re.findall(r"\w+|\S|\s+", text) for text in SOURCES]
+TOKENS = [spaced_tokens(text) for text in SOURCES]
 WORDS = sorted({t for tokens in TOKENS for t in tokens if not t.isspace()} | {
     "-129", "-128", "-1", "0", "1", "7", "8", "9", "63", "64", "127", "128", "255", "==", "!=",
     "<=", ">=", "&&", "||", "!", "+", "-", "{", "}", "(", ")", ";", ",", "self", "assumeRole",
