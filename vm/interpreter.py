@@ -12,13 +12,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
 
-from vm.isa.opcodes import BY_OPCODE, MAX_STACK, MAX_STEPS_PER_RUN, PUSH_SMALL_BASE
+from vm.isa.opcodes import BY_OPCODE, MAX_STACK, MAX_STEPS_PER_RUN, PUSH_SMALL_BASE, signed_byte
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
-
-
-def s8(value: int) -> int:
-    """Wrap to a signed byte."""
-    return ((value + 128) & 0xFF) - 128
 
 
 class Outcome(Enum):
@@ -98,7 +93,7 @@ def run(frame: Frame, m: Machine) -> Result:
 def _push(frame: Frame, value: int) -> None:
     if len(frame.stack) >= MAX_STACK:
         raise VMError("stack overflow")
-    frame.stack.append(s8(value))
+    frame.stack.append(signed_byte(value))
 
 
 def _pop(frame: Frame) -> int:
@@ -182,11 +177,11 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
             raise VMError(f"bad event {a[0]}")
         m.handle_event(a[0], _embedded(frame, a[1], a[2]))
     elif name == "SEND_COMMAND":
-        m.send_command(a[0], a[1], s8(a[2]))
+        m.send_command(a[0], a[1], signed_byte(a[2]))
     elif name == "CLEAR_EVENT":
         m.clear_event(a[0])
     elif name == "EVAL_COMMAND":
-        m.eval_command(a[0], s8(a[1]))
+        m.eval_command(a[0], signed_byte(a[1]))
     elif name == "HAS_ROLE":
         _push(frame, int(m.has_role(a[0])))
     elif name == "CONNECTED_ROLE":
@@ -202,7 +197,7 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
     elif name == "CLEAR_COMMAND_QUEUE":
         m.clear_command_queue(a[0])
     elif name == "SLEEP_ROTATIONS":
-        return Result(Outcome.SLEEP_ROTATIONS, turns=s8(a[0]))
+        return Result(Outcome.SLEEP_ROTATIONS, turns=signed_byte(a[0]))
     elif name == "SIZEOF":
         _push(frame, (_pop(frame) & 0xFF).bit_count())
     elif name == "NEGATE":
@@ -217,9 +212,9 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
     elif name == "PUSH_ARGUMENT":
         _push(frame, frame.arg)
     elif name == "PUSHC":
-        _push(frame, s8(a[0]))
+        _push(frame, signed_byte(a[0]))
     elif name == "SET_LED":
-        m.set_led(s8(a[0]))
+        m.set_led(signed_byte(a[0]))
     elif name == "SEND_COMMAND_STACK_ARG":
         m.send_command(a[0], a[1], _pop(frame))
     elif name == "EVAL_COMMAND_STACK_ARG":

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vm.isa.opcodes import signed_byte
 from vm.navigation import AXES
 
 PROGRAM = 1
@@ -73,11 +74,6 @@ class PacketError:
 Packet = ProgramPacket | CommandPacket | NotifyPacket | AckPacket
 
 
-def signed(b: int) -> int:
-    b &= 0xFF
-    return b - 256 if b >= 128 else b
-
-
 def crc8(data: bytes) -> int:
     """CRC-8 (polynomial 0x07), identifies a packet in acks."""
     crc = 0
@@ -105,7 +101,7 @@ def encode(p: Packet) -> bytes:
 
 def make_header(type_: int, id_: int, x: int = 0, y: int = 0, z: int = 0, r: int = 0,
                 vch: int = 0) -> Header:
-    return Header(type_, id_ & 0xFF, signed(x), signed(y), signed(z), r, vch)
+    return Header(type_, id_ & 0xFF, signed_byte(x), signed_byte(y), signed_byte(z), r, vch)
 
 
 def decode(data: bytes) -> Packet | PacketError:
@@ -124,7 +120,7 @@ def decode(data: bytes) -> Packet | PacketError:
         return PacketError(f"unknown packet type {t}")
     if t != ACK and (r not in AXES or vch > 7):
         return PacketError(f"bad header: axis {r}, virtual channel {vch}")
-    h = Header(t, pid, signed(x), signed(y), signed(z), r, vch)
+    h = Header(t, pid, signed_byte(x), signed_byte(y), signed_byte(z), r, vch)
     if t == PROGRAM:
         if not body:
             return PacketError("program packet without program bytes")
@@ -132,7 +128,7 @@ def decode(data: bytes) -> Packet | PacketError:
     if t == COMMAND:
         if len(body) != 3:
             return PacketError(f"command packet body of {len(body)} bytes, expected 3")
-        return CommandPacket(h, body[0], body[1], signed(body[2]))
+        return CommandPacket(h, body[0], body[1], signed_byte(body[2]))
     if t == NOTIFY:
         if len(body) != 1:
             return PacketError(f"notify packet body of {len(body)} bytes, expected 1")

@@ -26,7 +26,7 @@ import random
 from dataclasses import dataclass
 
 from vm.hal import ModuleHal
-from vm.packets import ACK, NOTIFY, PROGRAM, AckPacket, crc8, header_bytes, make_header, seal
+from vm.packets import ACK, NOTIFY, PROGRAM, AckPacket, crc8, encode, make_header, seal
 
 RETRY_INTERVAL = 0.25  # seconds
 MAX_TRIES = 12
@@ -69,8 +69,7 @@ class Link:
 
     def send_ack(self, channel: int, packet: bytes) -> None:
         """Acknowledge a received packet (acks themselves are not acknowledged)."""
-        ack = AckPacket(make_header(ACK, packet[1]), packet[0], crc8(packet))
-        self._transmit(channel, header_bytes(ack.header) + bytes((ack.acked_type, ack.checksum)))
+        self._transmit(channel, encode(AckPacket(make_header(ACK, packet[1]), packet[0], crc8(packet))))
 
     def on_ack(self, channel: int, ack: AckPacket) -> None:
         self.outbox = [p for p in self.outbox

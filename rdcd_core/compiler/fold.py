@@ -12,6 +12,7 @@ from rdcd_core.compiler.geometry import facing
 from rdcd_core.semantics.model import Value
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
+from vm.isa.opcodes import signed_byte
 
 COMPARE = {
     "==": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
@@ -20,10 +21,6 @@ COMPARE = {
 LOCAL_QUERIES = ("center_position", "total_connected", "connected")
 QUERY_TYPES = {"center_position": Type.AXIS, "total_connected": Type.CONNSET,
                "connected": Type.CONNSET, "x": Type.INT, "y": Type.INT, "z": Type.INT}
-
-
-def wrap(value: int) -> int:
-    return (value + 128) % 256 - 128
 
 
 def fold(expr: ast.Node, ctx: Context) -> Value | None:
@@ -65,7 +62,7 @@ def _eval(expr: ast.Node, ctx: Context, state: tuple[int, int] | None) -> Value 
         if inner is None:
             return None
         if expr.op == "-":
-            return Value(Type.INT, wrap(-inner.value))
+            return Value(Type.INT, signed_byte(-inner.value))
         return Value(Type.BOOL, int(not inner.value))
     if isinstance(expr, ast.Binary):
         return _eval_binary(expr, ctx, state)
@@ -85,9 +82,9 @@ def _eval_binary(expr: ast.Binary, ctx: Context, state: tuple[int, int] | None) 
     if left is None or right is None:
         return None
     if expr.op == "+":
-        return Value(Type.INT, wrap(left.value + right.value))
+        return Value(Type.INT, signed_byte(left.value + right.value))
     if expr.op == "-":
-        return Value(Type.INT, wrap(left.value - right.value))
+        return Value(Type.INT, signed_byte(left.value - right.value))
     return Value(Type.BOOL, int(COMPARE[expr.op](left.value, right.value)))
 
 
@@ -127,7 +124,7 @@ def _vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -
         inner = eval_vector(expr.operand, ctx, states)
         if inner is None:
             return None
-        return [wrap(-v) for v in inner] if expr.op == "-" else [int(not v) for v in inner]
+        return [signed_byte(-v) for v in inner] if expr.op == "-" else [int(not v) for v in inner]
     if isinstance(expr, ast.Binary):
         left, right = eval_vector(expr.left, ctx, states), eval_vector(expr.right, ctx, states)
         if left is None or right is None:
@@ -137,7 +134,7 @@ def _vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -
             return [int(both((a, b))) for a, b in zip(left, right, strict=True)]
         if expr.op in "+-":
             sign = 1 if expr.op == "+" else -1
-            return [wrap(a + sign * b) for a, b in zip(left, right, strict=True)]
+            return [signed_byte(a + sign * b) for a, b in zip(left, right, strict=True)]
         compare = COMPARE[expr.op]
         return [int(compare(a, b)) for a, b in zip(left, right, strict=True)]
     if isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and len(expr.args) == 1:

@@ -123,6 +123,13 @@ BY_OPCODE: dict[int, Instruction] = {ins.opcode: ins for ins in INSTRUCTIONS}
 BY_NAME: dict[str, Instruction] = {ins.name: ins for ins in INSTRUCTIONS}
 
 PUSH_SMALL_BASE = 128  # byte 128 + v pushes v for 0 <= v <= 127
+
+
+def signed_byte(value: int) -> int:
+    """``value`` wrapped to the VM's values, signed bytes -128..127 (stack, operands, coordinates)."""
+    return ((value + 128) & 0xFF) - 128
+
+
 MAX_STACK = 16
 MAX_STEPS_PER_RUN = 255
 SLOT_BYTES = 64  # a program store slot holds at most this many bytes (dcd-vm.md §1)

@@ -156,7 +156,7 @@ class LatticeWorld:
             self._woken.add(packet.target)
         woken, self._woken = self._woken, set()
         for mid in self._order:
-            if mid in woken or self._needs_step(self.runtimes[mid]):
+            if mid in woken or self.runtimes[mid].needs_step():
                 self.runtimes[mid].step()
 
     def _jump(self, end: int) -> None:
@@ -165,12 +165,8 @@ class LatticeWorld:
             hal.joint.advance(dt)
         self.ticks = end
 
-    @staticmethod
-    def _needs_step(r: ModuleRuntime, events: bool = True) -> bool:
-        return bool(r.link.outbox or r.store.tasks or (events and any(r.store.vectors)))
-
     def _busy(self, events: bool = True) -> bool:
-        return any(self._needs_step(r, events) for r in self.runtimes.values())
+        return any(r.needs_step(events) for r in self.runtimes.values())
 
     def _recorder(self, mid: int):  # noqa: ANN202 - a closure over the module id
         def record(kind: str, detail: dict[str, Any]) -> None:
