@@ -12,7 +12,7 @@ import math
 import pybullet as pb
 
 from sim import params
-from vm.lattice.joint import wrap
+from vm.lattice.joint import shorter_turn, wrap
 
 
 class PhysicsJoint:
@@ -62,8 +62,7 @@ class PhysicsJoint:
         self.update()
 
     def rotate_to(self, angle_deg: float) -> None:
-        delta = wrap(angle_deg - self.angle_deg())
-        self.rotate_by(180.0 if delta == -180.0 else delta)
+        self.rotate_by(shorter_turn(angle_deg - self.angle_deg()))
 
     def stop(self) -> None:
         self.velocity = 0.0

@@ -24,11 +24,6 @@ class Box:
     l: float  # noqa: E741
     kind: str = "box"
 
-    def corners(self) -> list[tuple[float, float]]:
-        x0, x1 = self.x - self.w / 2, self.x + self.w / 2
-        y0, y1 = self.y - self.l / 2, self.y + self.l / 2
-        return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-
 
 MAX_OBSTACLE_M = 1000.0
 

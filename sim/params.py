@@ -14,7 +14,6 @@ HEMISPHERE_MASS = MODULE_MASS / 2
 # Centre of mass of a solid hemisphere lies 3R/8 from the joint plane.
 HEMISPHERE_COM_OFFSET = 3 * MODULE_RADIUS / 8
 LATTICE_UNIT = 0.08  # m per lattice unit; neighbours are (±1, ±1, 0) units apart = 0.113 m
-CONNECTOR_ELEVATION_DEG = 45.0  # 45° from the equator, 90° apart: implied by the navigation offsets
 
 # --- the joint ---------------------------------------------------------------------------
 JOINT_TURN_PERIOD_S = 6.0  # one full turn in 6 s at speed 1

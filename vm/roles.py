@@ -49,6 +49,3 @@ class RoleTable:
         assert isinstance(names, dict) and isinstance(inst, dict)
         return cls({int(k): str(v) for k, v in names.items()},
                    {int(k): frozenset(int(x) for x in v) for k, v in inst.items()})
-
-
-EMPTY_ROLE_TABLE = RoleTable()

@@ -74,15 +74,19 @@ def reachable(code: bytes) -> set[int]:
         if pc in seen or pc not in at:
             continue
         seen.add(pc)
-        d = at[pc]
-        if d.info is None:
-            work.append(pc + 1)
-            continue
-        if not d.info.no_fallthrough:
-            work.append(pc + d.size)
-        if Operand.TARGET in d.info.operands:
-            work.append(d.operands[d.info.operands.index(Operand.TARGET)])
+        work.extend(successors(at[pc]))
     return seen
+
+
+def successors(d: Decoded) -> list[int]:
+    """Offsets control can go to after ``d``: the next instruction unless ``d`` never falls
+    through, and its jump target (an unknown byte is skipped as one byte)."""
+    if d.info is None:
+        return [d.offset + 1]
+    out = [] if d.info.no_fallthrough else [d.offset + d.size]
+    if Operand.TARGET in d.info.operands:
+        out.append(d.operands[d.info.operands.index(Operand.TARGET)])
+    return out
 
 
 def to_text(code: bytes, *, with_offsets: bool = False) -> str:

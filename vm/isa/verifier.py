@@ -13,7 +13,7 @@ refuses this project's extension opcodes. Returns error strings; never raises.
 
 from __future__ import annotations
 
-from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble
+from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble, successors
 from vm.isa.opcodes import BY_OPCODE, COMMANDS, MAX_STACK, SLOT_BYTES, USER_COMMAND_BASE, Operand
 from vm.navigation import DIRECTIONS
 
@@ -128,19 +128,11 @@ def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int
         if after > MAX_STACK:
             errors.append(f"offset {pc}: {d.name} overflows the {MAX_STACK}-entry stack")
             continue
-        for nxt in _successors(d, len(code)):
+        for nxt in successors(d):
             if nxt >= len(code):
                 errors.append(f"offset {pc}: control falls off the end of the fragment after {d.name}")
             else:
                 work.append((nxt, after))
     return sorted(set(errors), key=lambda e: int(e.split(":")[0].split()[1]))
 
-
-def _successors(d: Decoded, length: int) -> list[int]:
-    if d.info is None:
-        return [d.offset + 1]
-    out = [] if d.info.no_fallthrough else [d.offset + d.size]
-    if Operand.TARGET in d.info.operands:
-        out.append(d.operands[d.info.operands.index(Operand.TARGET)])
-    return out
 

@@ -12,6 +12,12 @@ def wrap(angle: float) -> float:
     return (angle + 180.0) % 360.0 - 180.0
 
 
+def shorter_turn(delta_deg: float) -> float:
+    """The rotation that goes ``delta_deg`` the shorter way; exactly half a turn goes clockwise."""
+    delta = wrap(delta_deg)
+    return 180.0 if delta == -180.0 else delta
+
+
 class Joint:
     def __init__(self, speed_deg_s: float) -> None:
         if speed_deg_s <= 0:
@@ -34,9 +40,7 @@ class Joint:
         self._remaining = float(delta_deg) if delta_deg else None
 
     def rotate_to(self, angle_deg: float) -> None:
-        """The shorter way; exactly half a turn goes clockwise."""
-        delta = wrap(angle_deg - self.angle)
-        self.rotate_by(180.0 if delta == -180.0 else delta)
+        self.rotate_by(shorter_turn(angle_deg - self.angle))
 
     def stop(self) -> None:
         self._velocity = 0.0

@@ -79,6 +79,3 @@ class Network:
 
     def in_flight(self) -> int:
         return len(self._queue)
-
-    def next_due(self) -> float | None:
-        return self._queue[0].due if self._queue else None

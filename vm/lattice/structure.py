@@ -82,9 +82,6 @@ class Structure:
     def ids(self) -> list[int]:
         return list(self.modules)
 
-    def module_at(self, position: Vec) -> int | None:
-        return self._by_position.get(tuple(position))  # type: ignore[arg-type]
-
     def neighbours(self, module_id: int) -> dict[int, tuple[int, int]]:
         """physical connector -> (neighbour id, the neighbour's physical connector)."""
         return dict(self._ports[module_id])
