@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from rdcd_core.cli_check import check_packet_budget, render_text
-from rdcd_core.compiler import CompiledProgram, compile_model
+from rdcd_core.compiler import CompiledProgram, add_source_lines, compile_model
 from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES
 from rdcd_core.compiler.render import render_c, render_json, render_listing
 from rdcd_core.diagnostics import Diagnostic, Severity
@@ -46,6 +46,10 @@ def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, stric
     diagnostics = list(result.diagnostics)
     if result.has_errors:
         return result, None, diagnostics
+    if result.compiled is not None and not strict_isa:  # the check compiled it: add the source lines
+        program = result.compiled
+        add_source_lines(program.fragments, result.line_index)
+        return result, program, diagnostics
     program = compile_model(result.model, packet_budget=packet_budget, strict_isa=strict_isa, text=text)
     known = {(d.code, d.span) for d in diagnostics}
     diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]

@@ -27,8 +27,8 @@ from rdcd_core.compiler.verify import verify_fragments
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex
 
-__all__ = ["PROGRAM_BUDGET", "CompiledProgram", "Fragment", "RoleEntry", "compile_model",
-           "target_diagnostics"]
+__all__ = ["PROGRAM_BUDGET", "CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
+           "compile_model", "target_diagnostics"]
 
 
 def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = False,
@@ -55,7 +55,7 @@ def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = F
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code
         found.extend(verify_fragments(planner.fragments, strict_isa))
     if text is not None:
-        _add_lines(planner.fragments, LineIndex(text))
+        add_source_lines(planner.fragments, LineIndex(text))
     names = [f.name for f in planner.fragments]
     return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found))
 
@@ -67,7 +67,8 @@ def target_diagnostics(model: Model, packet_budget: int = 50) -> list[diag.Diagn
     return compile_model(model, packet_budget=packet_budget).diagnostics
 
 
-def _add_lines(fragments: list[Fragment], index: LineIndex) -> None:
+def add_source_lines(fragments: list[Fragment], index: LineIndex) -> None:
+    """Give each fragment's source map, and the fragment, the lines of ``index``'s text they come from."""
     for fragment in fragments:
         fragment.source_map = [
             type(e)(e.offset, e.size, e.span, index.line_col(e.span.start).line + 1 if e.span else 0)
