@@ -23,18 +23,12 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # type: ignore[override]
-        self.print_usage(sys.stderr)
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
 def build_parser(selected: str | None = None) -> argparse.ArgumentParser:
     """The argument parser; only the ``selected`` subcommand's module is imported (the others
     would cost start-up time: ``simulate`` loads PyBullet)."""
-    parser = _Parser(prog="rdcd", description="The RDCD toolchain for ATRON modular robots.")
+    parser = argparse.ArgumentParser(prog="rdcd", description="The RDCD toolchain for ATRON modular robots.")
     parser.add_argument("--version", action="version", version=f"rdcd {__version__}")
-    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (module_name, help_text) in SUBCOMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text)
         if name != selected:

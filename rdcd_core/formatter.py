@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import difflib
 
-from rdcd_core.diagnostics import Severity, TextEdit
+from rdcd_core.diagnostics import TextEdit
 from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast
+from rdcd_core.syntax.parser import parse
 
 INDENT = "  "
 MAX_INLINE = 100
@@ -26,15 +27,11 @@ def format_text(text: str) -> str | None:
 
 def _parsed(text: str) -> ast.Program | None:
     """The program of ``text``, or None if it has syntax errors."""
-    from rdcd_core.syntax.parser import parse
-
     try:
         result = parse(text)
     except Exception:  # the parser promises not to raise; be safe anyway
         return None
-    if result.program is None or any(d.severity is Severity.ERROR for d in result.diagnostics):
-        return None
-    return result.program
+    return result.program if result.ok else None
 
 
 def format_program(program: ast.Program, text: str) -> str:
