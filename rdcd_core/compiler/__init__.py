@@ -15,9 +15,9 @@ from rdcd_core.compiler.entry import assign_command_numbers
 from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit, role_id_limit
 from rdcd_core.compiler.plan import plan
 from rdcd_core.compiler.program import (
+    DEFAULT_PACKET_BUDGET,
     HEADER_BYTES,
     MAX_PROGRAM_BYTES,
-    PROGRAM_BUDGET,
     CompiledProgram,
     Fragment,
     RoleEntry,
@@ -27,11 +27,11 @@ from rdcd_core.compiler.verify import verify_fragments
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex
 
-__all__ = ["PROGRAM_BUDGET", "CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
+__all__ = ["CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
            "compile_model", "target_diagnostics"]
 
 
-def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = False,
+def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
                   text: str | None = None) -> CompiledProgram:
     """Compiles a checked model. With errors in the model, returns an empty program.
 
@@ -60,7 +60,7 @@ def compile_model(model: Model, *, packet_budget: int = 50, strict_isa: bool = F
     return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found))
 
 
-def target_diagnostics(model: Model, packet_budget: int = 50) -> list[diag.Diagnostic]:
+def target_diagnostics(model: Model, packet_budget: int = DEFAULT_PACKET_BUDGET) -> list[diag.Diagnostic]:
     """The §6 target limits of ``model`` (empty when the model has errors)."""
     if model.has_errors:
         return []

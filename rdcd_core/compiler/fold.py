@@ -28,11 +28,6 @@ def fold(expr: ast.Node, ctx: Context) -> Value | None:
     return _eval(expr, ctx, None)
 
 
-def eval_local(expr: ast.Node, ctx: Context, state: tuple[int, int]) -> int | None:
-    value = _eval(expr, ctx, state)
-    return None if value is None else value.value
-
-
 def type_of(expr: ast.Node, ctx: Context) -> Type:
     expr = ast.unparen(expr)
     if isinstance(expr, ast.IntLit):

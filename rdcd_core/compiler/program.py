@@ -11,7 +11,6 @@ from vm.roles import RoleTable
 
 HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
 DEFAULT_PACKET_BUDGET = 50
-PROGRAM_BUDGET = DEFAULT_PACKET_BUDGET - HEADER_BYTES
 MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (dcd-vm.md §1)
 
 
@@ -36,11 +35,6 @@ class Fragment:
     source: tuple[int, int] = (0, 0)  # (line, end_line), 1-based; (0, 0) if unknown
     roles: list[str] = field(default_factory=list)  # the roles whose code it holds
     methods: list[str] = field(default_factory=list)  # the methods whose code it holds
-
-    @property
-    def method(self) -> str | None:
-        """The method the fragment holds code of, when it is just one."""
-        return self.methods[0] if len(self.methods) == 1 else None
 
     @property
     def size(self) -> int:
