@@ -50,6 +50,14 @@ def test_eleven_stored_programs_is_a_warning():
     assert "W602" in codes_of(text)
 
 
+def test_a_handler_installed_again_for_its_event_takes_no_further_slot():
+    handlers = " ".join(f"self.handleEvent(EVENT_PROXIMITY_{k}, {{ self.setLed({n}); }});"
+                        for k in range(4) for n in range(2))  # 8 installs, 4 events
+    commands = " ".join(f"command c{i}() {{ self.setLed({i}); }}" for i in range(3))
+    text = f"role A {{ self.x() > 0; startup s() {{ {handlers} }} {commands} }}\ndeployment {{ A }}"
+    assert "W602" not in codes_of(text)  # 3 commands + 4 handlers = 7 stored programs
+
+
 def test_oversized_code_that_cannot_be_split_is_reported():
     leds = " ".join(f"self.setLed({i});" for i in range(30))
     text = (f"role A {{ self.x() > 0; startup s() {{ self.handleEvent(EVENT_PROXIMITY_1, {{ {leds} }}); }} }}"
