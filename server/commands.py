@@ -34,8 +34,7 @@ def simulate_arguments(program: Path, options: dict[str, Any], report: Path, plo
         value = options.get(key)
         if value is None:
             continue
-        for item in value if isinstance(value, list) else [value]:
-            argv += [flag, str(item)]
+        argv += [flag, str(value)]
     return argv + ["--report", str(report), "--plot", str(plot)]
 
 
@@ -154,7 +153,7 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
 
 def bytecode_listing(ls: Any, uri: Any) -> str:
     """The listing of ``rdcd compile --format listing`` for the document as it is in the editor."""
-    from rdcd_core.compiler import compile_model
+    from rdcd_core.compiler import add_source_lines
     from rdcd_core.compiler.render import render_listing
     from rdcd_core.diagnostics import Severity
     from rdcd_core.ide.analysis import analyze
@@ -163,10 +162,12 @@ def bytecode_listing(ls: Any, uri: Any) -> str:
     document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
     analysis = document.current() if document is not None else analyze(text)
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
-    if analysis.model is None or errors:
+    program = analysis.compiled() if analysis.model is not None and not errors else None
+    if program is None:
         reason = errors[0].message if errors else "the program could not be checked"
         raise RequestFailed(f"cannot compile: {reason}")
-    return render_listing(compile_model(analysis.model, text=text))
+    add_source_lines(program.fragments, analysis.line_index)
+    return render_listing(program)
 
 
 def register(server: Any) -> None:

@@ -31,7 +31,7 @@ def prepare_rename(analysis: Analysis, offset: int) -> Span | None:
 def rename(analysis: Analysis, offset: int, new_name: str) -> list[TextEdit]:
     ref = analysis.reference_at(offset)
     model = analysis.model
-    if ref is None or model is None or ref.kind not in RENAMABLE or ref.target == ROOT_ROLE:
+    if model is None or ref is None or prepare_rename(analysis, offset) is None:
         raise RenameError("nothing to rename here: place the cursor on a role, constant or method")
     if not IDENTIFIER.match(new_name):
         raise RenameError(f"'{new_name}' is not a valid name")
