@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.geometry import facing
+from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES
 from rdcd_core.semantics.model import Value
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
@@ -19,8 +20,6 @@ COMPARE = {
     ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
 }
 LOCAL_QUERIES = ("center_position", "total_connected", "connected")
-QUERY_TYPES = {"center_position": Type.AXIS, "total_connected": Type.CONNSET,
-               "connected": Type.CONNSET, "x": Type.INT, "y": Type.INT, "z": Type.INT}
 
 
 def fold(expr: ast.Node, ctx: Context) -> Value | None:
@@ -39,10 +38,10 @@ def type_of(expr: ast.Node, ctx: Context) -> Type:
         return Type.BOOL if expr.op == "!" else Type.INT
     if isinstance(expr, ast.Binary):
         return Type.INT if expr.op in "+-" else Type.BOOL
-    if isinstance(expr, ast.SelfCall):
-        return QUERY_TYPES.get(expr.name.text, Type.VOID)
-    if isinstance(expr, ast.FunctionCall):
-        return Type.INT if expr.name.text == "sizeof" else Type.CONNSET
+    if isinstance(expr, (ast.SelfCall, ast.FunctionCall)):  # a plain method gives nothing to fold
+        table = SELF_PRIMITIVES if isinstance(expr, ast.SelfCall) else FUNCTIONS
+        primitive = table.get(expr.name.text)
+        return primitive.result if primitive else Type.VOID
     return Type.VOID
 
 
