@@ -22,11 +22,10 @@ PROGRAM = ROOT / "examples" / "obstacle_avoidance.rdcd"
 
 
 def compile_program():  # noqa: ANN201
-    from rdcd_core.compiler import compile_model
-    from rdcd_core.frontend import check_text
+    from rdcd_core.cli_compile import compile_text
 
-    text = PROGRAM.read_text(encoding="utf-8")
-    return compile_model(check_text(text).model, text=text)
+    _, program, _ = compile_text(PROGRAM.read_text(encoding="utf-8"))
+    return program
 
 
 def run_case(case: tuple[str, str, float, int, float]) -> dict:

@@ -27,27 +27,26 @@ from sim.quiet import import_pybullet  # noqa: E402
 
 import_pybullet()
 
-from rdcd_core.compiler import compile_model  # noqa: E402
-from rdcd_core.frontend import check_text  # noqa: E402
+from rdcd_core.cli_compile import compile_text  # noqa: E402
 from sim import params  # noqa: E402
 from sim.config import load_config, random_structure  # noqa: E402
 from sim.obstacles import parse_obstacle  # noqa: E402
-from sim.run import inject_program  # noqa: E402
+from sim.run import inject_program, role_table  # noqa: E402
 from sim.world import PhysicsWorld  # noqa: E402
 from vm.isa.assembler import assemble  # noqa: E402
 from vm.roles import RoleTable  # noqa: E402
 
 
 def _program():  # noqa: ANN202
-    text = (ROOT / "examples" / "obstacle_avoidance.rdcd").read_text(encoding="utf-8")
-    return compile_model(check_text(text).model, text=text)
+    _, program, _ = compile_text((ROOT / "examples" / "obstacle_avoidance.rdcd").read_text(encoding="utf-8"))
+    return program
 
 
 def car(name: str, seconds: float) -> tuple[str, float, float, int]:
     program = _program()
     world = PhysicsWorld(load_config(name), obstacles=parse_obstacle("wall:1.0"))
     try:
-        runtimes = world.add_runtimes(program.role_table(), seed=0)
+        runtimes = world.add_runtimes(role_table(program), seed=0)
         inject_program(program, runtimes[world.structure.entry].inject)
         wall, cpu = time.perf_counter(), time.process_time()
         world.advance(seconds)

@@ -31,7 +31,7 @@ from rdcd_core.cli_compile import compile_text  # noqa: E402
 from sim import params  # noqa: E402
 from sim.config import load_config  # noqa: E402
 from sim.obstacles import parse_obstacle  # noqa: E402
-from sim.run import inject_program  # noqa: E402
+from sim.run import inject_program, role_table  # noqa: E402
 from sim.world import PhysicsWorld  # noqa: E402
 from vm.lattice.structure import Structure  # noqa: E402
 
@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
                 spans.append((mid, reverse_since.pop(mid), world.time))
         return record
 
-    runtimes = world.add_runtimes(program.role_table(), seed=0)
+    runtimes = world.add_runtimes(role_table(program), seed=0)
     for mid, runtime in runtimes.items():
         runtime.on_event = on_event(mid)
     inject_program(program, runtimes[structure.entry].inject)

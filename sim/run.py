@@ -37,9 +37,16 @@ class Options:
     realtime: bool = False  # pace the GUI at wall-clock speed
 
 
+def role_table(program: CompiledProgram) -> RoleTable:
+    """The VM's role table for ``program`` (role id -> name, instance-of), given to every module.
+    It lives here, where the compiler's and the VM's layers meet (rdcd_core imports only vm.isa)."""
+    return RoleTable({r.id: r.name for r in program.roles},
+                     {r.id: frozenset(r.instance_of) for r in program.roles})
+
+
 def simulate(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
     boxes = parse_obstacle(options.obstacle)
-    roles = program.role_table()
+    roles = role_table(program)
     start = time.perf_counter()
     if options.world == "lattice":
         run = _run_lattice(program, structure, roles, boxes, options)

@@ -7,7 +7,6 @@ from dataclasses import dataclass, field
 from rdcd_core import diagnostics as diag
 from rdcd_core.source import Span
 from vm.isa.opcodes import SLOT_BYTES
-from vm.roles import RoleTable
 
 HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
 DEFAULT_PACKET_BUDGET = 50
@@ -83,8 +82,3 @@ class CompiledProgram:
 
     def role_id(self, name: str) -> int:
         return next(r.id for r in self.roles if r.name == name)
-
-    def role_table(self) -> RoleTable:
-        """The role table every module of the structure is given (role id → name, instance-of)."""
-        return RoleTable({r.id: r.name for r in self.roles},
-                         {r.id: frozenset(r.instance_of) for r in self.roles})

@@ -33,7 +33,7 @@ def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
         what, name = ids[ROLE_IDS]
         ctx.report(codes.TOO_MANY_ROLE_IDS, name.span,
                    f"the program needs {len(ids)} role identifiers (deployed and observed roles, "
-                   f"one per mixin application); the target has {ROLE_IDS}: the 15th is "
+                   f"one per mixin application); the target has {ROLE_IDS}: the {ROLE_IDS + 1}th is "
                    f"'{what}'; deploy fewer roles or assume fewer mixins")
     for role in deployed:
         _check_table(ctx, role, list(roles[role].methods.values()))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from sim.config import load_config
+from sim.run import role_table
 from vm.lattice.world import LatticeWorld
 
 CARS = ["car7", "car11", "car8-cyclic", "car17-wide"]
@@ -12,7 +13,7 @@ CARS = ["car7", "car11", "car8-cyclic", "car17-wide"]
 
 def start(program, config: str, *, loss: float = 0.0, spaced: bool = True, seed: int = 1):
     structure = load_config(config)
-    world = LatticeWorld(structure, program.role_table(), seed=seed, packet_loss=loss)
+    world = LatticeWorld(structure, role_table(program), seed=seed, packet_loss=loss)
     for name in program.injection:
         world.inject(program.fragment(name).code)
         if spaced:
@@ -71,7 +72,7 @@ def test_snake_segments_take_roles_and_flash(example_programs):
 
     program = example_programs["snake_wave.rdcd"]
     structure = snake(6)
-    world = LatticeWorld(structure, program.role_table(), seed=2)
+    world = LatticeWorld(structure, role_table(program), seed=2)
     for name in program.injection:
         world.inject(program.fragment(name).code)
     world.advance(5.0)

@@ -24,6 +24,7 @@ from pathlib import Path
 from rdcd_core.compiler import CompiledProgram, compile_model
 from rdcd_core.frontend import check_text
 from sim.config import load_config
+from sim.run import role_table
 from vm.lattice.structure import Structure
 from vm.lattice.world import LatticeWorld
 
@@ -118,7 +119,7 @@ def start(config: str, *, seed: int = 0, loss: float = 0.0, spacing_s: float | N
     every module and the links are quiet (the spacing the compiler's injection plan asks for)."""
     began = time.perf_counter()
     program, structure = compiled(), load_config(config)
-    world = LatticeWorld(structure, program.role_table(), seed=seed, packet_loss=loss)
+    world = LatticeWorld(structure, role_table(program), seed=seed, packet_loss=loss)
     entry_log = world.runtimes[structure.entry].event_log
     injected: dict[tuple[int, int], str] = {}
     for name in program.injection:

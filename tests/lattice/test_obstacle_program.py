@@ -13,6 +13,7 @@ from rdcd_core.compiler import compile_model
 from rdcd_core.semantics import analyze
 from rdcd_core.syntax import parse
 from sim.config import load_config
+from sim.run import role_table
 from vm.lattice.world import LatticeWorld
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -23,7 +24,7 @@ def compiled():
     text = (EXAMPLES / "obstacle_avoidance.rdcd").read_text()
     program = compile_model(analyze(parse(text).program), text=text)
     assert not program.has_errors, program.diagnostics
-    return program, program.role_table()
+    return program, role_table(program)
 
 
 def _until_everywhere(world: LatticeWorld, k: int, limit_s: float = 60.0) -> None:
