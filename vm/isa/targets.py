@@ -1,0 +1,76 @@
+"""The targets a program can be compiled for and a VM profile can behave like (DESIGN.md, "Targets").
+
+Each target is one description: which opcodes it executes, its limits and its quirks. The compiler,
+the verifier and the VM profile read these; no ``if original:`` elsewhere. ``default`` is this
+project's corrected DCD-VM (dcd-vm.md §1–§7); ``original`` is the ATRON firmware of 2007 as
+dcd-vm.md §10 measures it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from vm.isa.opcodes import INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
+
+
+@dataclass(frozen=True, slots=True)
+class Quirks:
+    """The firmware's bugs (dcd-vm.md §10) that a VM profile reproduces and the compiler avoids."""
+
+    enable_event_toggles: bool = False  # ENABLE_EVENT flips the disabled flag instead of clearing it
+    connected_dir_sizeof_popcount_of_count: bool = False  # CONNECTED_DIR_SIZEOF: bits set in the count
+    connected_dir_sizeof_limited: bool = False  # only NS {NORTH, DOWN} and EW {UP, EAST, WEST, DOWN, NORTH}
+    connected_physical_bits: bool = False  # CONNECTED: bit p+1 for physical channel p, channel 7 lost
+    handler_refires_with_zero: bool = False  # a handler runs with argument 0, again every step it sees
+    apply_64_broadcasts: bool = False  # APPLY with f = 64 broadcasts command a to every role
+    no_duplicate_suppression: bool = False  # programs circulate in cyclic structures
+    ud_offsets_swapped: bool = False  # UD channel 5/7 x-offsets swapped (coordinates learned wrong)
+
+
+@dataclass(frozen=True, slots=True)
+class Target:
+    name: str
+    opcodes: frozenset[int]  # opcodes it executes (bytes >= 128 are always small constants)
+    max_stack: int
+    max_steps_per_run: int
+    slot_bytes: int
+    program_slots: int
+    quirks: Quirks
+    description: str
+
+    def implements(self, opcode: int) -> bool:
+        return opcode >= 128 or opcode in self.opcodes
+
+
+def _ranges(*spans: tuple[int, int]) -> frozenset[int]:
+    return frozenset(op for low, high in spans for op in range(low, high + 1))
+
+
+DEFAULT = Target(
+    name="default",
+    opcodes=frozenset(ins.opcode for ins in INSTRUCTIONS),
+    max_stack=MAX_STACK,
+    max_steps_per_run=MAX_STEPS_PER_RUN,
+    slot_bytes=SLOT_BYTES,
+    program_slots=PROGRAM_SLOTS,
+    quirks=Quirks(),
+    description="this project's DCD-VM: the instruction set of dcd-vm.md §7 with its extensions",
+)
+
+ORIGINAL = Target(
+    name="original",
+    # dcd-vm.md §10: 1–7, 12–18, 22, 24–27, 30–34, 36, 42–49, 51–55, 127
+    opcodes=_ranges((1, 7), (12, 18), (22, 22), (24, 27), (30, 34), (36, 36), (42, 49), (51, 55),
+                    (127, 127)),
+    max_stack=5,
+    max_steps_per_run=100,
+    slot_bytes=SLOT_BYTES,
+    program_slots=PROGRAM_SLOTS,
+    quirks=Quirks(enable_event_toggles=True, connected_dir_sizeof_popcount_of_count=True,
+                  connected_dir_sizeof_limited=True, connected_physical_bits=True,
+                  handler_refires_with_zero=True, apply_64_broadcasts=True,
+                  no_duplicate_suppression=True, ud_offsets_swapped=True),
+    description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
+)
+
+TARGETS: dict[str, Target] = {target.name: target for target in (DEFAULT, ORIGINAL)}
