@@ -373,7 +373,7 @@ def test_fmt_leaves_the_file_untouched_when_the_write_fails(tmp_path: Path) -> N
 
 
 def test_fmt_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from rdcd_core import inputs
+    from rdcd_core import outputs
 
     program = tmp_path / "a.rdcd"
     program.write_text("old text\n", encoding="utf-8")
@@ -381,9 +381,9 @@ def test_fmt_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) ->
     def full_disk(*args: object, **kwargs: object) -> None:
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(inputs.os, "fsync", full_disk)
+    monkeypatch.setattr(outputs.os, "fsync", full_disk)
     with pytest.raises(OSError):
-        inputs.write_atomically(str(program), "new text that does not fit\n")
+        outputs.write_atomically(str(program), "new text that does not fit\n")
     assert program.read_text(encoding="utf-8") == "old text\n"
     assert [p.name for p in tmp_path.iterdir()] == ["a.rdcd"]
 
