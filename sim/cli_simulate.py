@@ -238,8 +238,12 @@ def run(args: argparse.Namespace) -> int:
         return _fail(f"cannot write {args.record}: {_why(e)}")
     from sim.report import summary
 
+    # the files first: a closed standard output must not cost the user the run's results
+    written, problem = _write_outputs(args, report, structure)
     print(summary(report))
-    return _write_outputs(args, report, structure)
+    for line in written:
+        print(line)
+    return _fail(problem) if problem else 0
 
 
 def _why(error: OSError) -> str:
@@ -248,22 +252,22 @@ def _why(error: OSError) -> str:
     return describe_os_error(error)
 
 
-def _write_outputs(args: argparse.Namespace, report: dict, structure) -> int:  # noqa: ANN001
+def _write_outputs(args: argparse.Namespace, report: dict, structure) -> tuple[list[str], str | None]:  # noqa: ANN001
+    """Writes --report and --plot (--record is written by the run): what to print, and the problem."""
     from rdcd_core.outputs import write_atomically
 
-    if args.record is not None:
-        print(f"animation: {args.record}")
+    written = [f"animation: {args.record}"] if args.record is not None else []
     option, path = "--report", args.report
     try:
         if args.report is not None:
             write_atomically(args.report, json.dumps(report, indent=1) + "\n")
-            print(f"report: {args.report}")
+            written.append(f"report: {args.report}")
         if args.plot is not None:
             from sim.plot import plot_report
 
             option, path = "--plot", args.plot
             plot_report(report, structure, args.plot)
-            print(f"plot: {args.plot}")
+            written.append(f"plot: {args.plot}")
     except OSError as e:
-        return _fail(f"{option} {path}: cannot write: {_why(e)}")
-    return 0
+        return written, f"{option} {path}: cannot write: {_why(e)}"
+    return written, None

@@ -446,3 +446,13 @@ def test_simulate_writes_its_report_when_the_reader_leaves(tmp_path: Path) -> No
 def test_a_good_program_with_the_reader_gone_is_still_0(tmp_path: Path) -> None:
     status, stderr = _reader_gone("check", str(EXAMPLES / "obstacle_avoidance.rdcd"))
     assert status == 0, stderr
+
+
+def test_simulate_with_stdout_closed_still_writes_its_files(tmp_path: Path) -> None:
+    """`>&-`: the summary cannot be shown (status 2, said in one line), the report is written."""
+    report = tmp_path / "r.json"
+    done = rdcd("simulate", str(EXAMPLES / "obstacle_avoidance.rdcd"), *LATTICE, "--report", str(report),
+                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, preexec_fn=lambda: os.close(1),
+                capture_output=False)
+    assert_clean_failure(done, 2, "standard output is closed")
+    assert json.loads(report.read_text(encoding="utf-8"))["world"] == "lattice"
