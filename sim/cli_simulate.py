@@ -129,7 +129,8 @@ def _output_paths(args: argparse.Namespace) -> list[tuple[str, str]]:
     if args.plot is not None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-        formats = sorted(FigureCanvasAgg.get_supported_filetypes())
+        # pgf is LaTeX source and needs a TeX installation to be written: not a picture format
+        formats = sorted(set(FigureCanvasAgg.get_supported_filetypes()) - {"pgf"})
         args.plot = _with_format("--plot", args.plot, formats, "png")
         outputs.append(("--plot", args.plot))
     if args.record is not None:

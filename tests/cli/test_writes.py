@@ -125,6 +125,7 @@ def test_two_outputs_naming_one_file_are_refused(tmp_path: Path, files: dict[str
 @pytest.mark.parametrize(("args", "words"), [
     (("--plot", "out.xyz"), ["unknown format '.xyz'", ".png", ".svg", ".pdf"]),
     (("--plot", "out.JSON"), ["unknown format '.JSON'"]),
+    (("--plot", "out.pgf"), ["unknown format '.pgf'"]),  # LaTeX source, and needs TeX installed
     (("--record", "out.mp4", "--world", "physics"), ["unknown format '.mp4'", "accepted: .gif"]),
     (("--report", ""), ["--report ''", "empty path"]),
     (("--plot", ""), ["--plot ''", "empty path"]),
