@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import ctypes
 import ctypes.util
+import functools
 import json
 import os
 import sys
@@ -51,6 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 MAX_DURATION_S = 3600.0
 
 
+@functools.cache
 def physics_snake_max() -> int:
     """The longest snakeN the physics world builds (PyBullet's links per body)."""
     from sim.config import MAX_SNAKE, snake
@@ -121,8 +123,6 @@ def _display_problem() -> str | None:
 def _output_paths(args: argparse.Namespace) -> list[tuple[str, str]]:
     """(option, path) of every file the run will write, the format of each checked, a missing
     extension added (the path printed at the end is the one written). InputError if one is bad."""
-    from rdcd_core.inputs import InputError
-
     outputs = []
     if args.report is not None:
         outputs.append(("--report", args.report))
@@ -136,9 +136,6 @@ def _output_paths(args: argparse.Namespace) -> list[tuple[str, str]]:
     if args.record is not None:
         args.record = _with_format("--record", args.record, ["gif"], "gif")
         outputs.append(("--record", args.record))
-    for option, path in outputs:
-        if not path:
-            raise InputError(f"{option} '': an empty path names no file")
     return outputs
 
 
@@ -148,8 +145,8 @@ def _with_format(option: str, path: str, accepted: list[str], default: str) -> s
     if not path or path.endswith(("/", os.sep)):
         return path  # check_outputs says what is wrong with it
     suffix = Path(path).suffix
-    if not suffix:
-        return f"{path}.{default}"
+    if not suffix:  # /dev/stdout and the like are written as named (in the default format)
+        return path if os.path.exists(path) and not os.path.isfile(path) else f"{path}.{default}"
     if suffix[1:].lower() not in accepted:
         raise InputError(f"{option} {path}: unknown format {suffix!r} "
                          f"(accepted: {', '.join('.' + a for a in accepted)})")

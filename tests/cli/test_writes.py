@@ -457,3 +457,11 @@ def test_simulate_with_stdout_closed_still_writes_its_files(tmp_path: Path) -> N
                 capture_output=False)
     assert_clean_failure(done, 2, "standard output is closed")
     assert json.loads(report.read_text(encoding="utf-8"))["world"] == "lattice"
+
+
+def test_pictures_to_a_device_keep_its_name() -> None:
+    """`--plot /dev/null` has no extension, but is no file to add `.png` to (nor to replace)."""
+    done = rdcd("simulate", str(EXAMPLES / "obstacle_avoidance.rdcd"), *LATTICE, "--plot", "/dev/null")
+    assert done.returncode == 0, done.stderr
+    assert "plot: /dev/null" in done.stdout.splitlines()
+    assert not Path("/dev/null.png").exists() and stat.S_ISCHR(os.stat("/dev/null").st_mode)
