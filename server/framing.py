@@ -57,6 +57,7 @@ class FrameReader:
         self._length: int | None = None
         self._headers = 0
         self._scanned = 0  # how far the body (state "body") was searched for a header
+        self._skip = 1  # where state "resync" starts searching
         self._troubled = False  # a problem was reported since the last good frame
 
     def feed(self, data: bytes) -> list[Body | Problem]:
@@ -90,11 +91,11 @@ class FrameReader:
             del self._buffer[:end + 1]
             if self._length is not None:
                 self._state, self._scanned = "body", 0
-            elif self._headers:
+            elif self._headers:  # the body follows: search from its first byte
                 self._fail(found, "a message without a Content-Length header", skip=0)
             return True  # blank lines between frames are harmless
         match = _HEADER_LINE.fullmatch(line)
-        if match is None:
+        if match is None or _HEADER_START.search(line, 1):  # garbage, or garbage before a header
             self._fail(found, f"not a header: {_preview(line.rstrip(CR))}")
             return True
         name, value = match.group(1).lower(), match.group(2)
@@ -120,9 +121,11 @@ class FrameReader:
 
     def _body(self, found: list[Body | Problem]) -> bool:
         assert self._length is not None
-        end = min(len(self._buffer), self._length)
-        header = _HEADER_IN_BODY.search(self._buffer, max(0, self._scanned - _KEEP), end)
-        if header is not None:  # the length was too long: the next frame began inside this one
+        end = self._length
+        # the first header after the body's start; one that starts inside the claimed body means the
+        # length was too long (or the body was cut short) and the next frame began inside this one
+        header = _HEADER_IN_BODY.search(self._buffer, max(0, self._scanned - _KEEP))
+        if header is not None and header.start() < self._length:
             end = header.start()
         elif len(self._buffer) < self._length:
             self._scanned = len(self._buffer)
@@ -134,9 +137,12 @@ class FrameReader:
         return True
 
     def _resync(self) -> bool:
-        start = _HEADER_START.search(self._buffer, 1)
+        start = _HEADER_START.search(self._buffer, self._skip)
         if start is None:
-            del self._buffer[:max(0, len(self._buffer) - _KEEP)]
+            drop = max(0, len(self._buffer) - _KEEP)
+            if drop:  # the failed header is gone with it: search the kept tail from its start
+                del self._buffer[:drop]
+                self._skip = 0
             return False
         del self._buffer[:start.start()]
         self._reset()
@@ -145,12 +151,12 @@ class FrameReader:
     # -- helpers --------------------------------------------------------------------------------
     def _fail(self, found: list[Body | Problem], message: str, code: int = PARSE_ERROR,
               skip: int = 1) -> None:
-        """Reports the problem (once per broken stretch) and searches for the next header."""
+        """Reports the problem (once per broken stretch) and searches for the next header from
+        ``skip`` bytes on (1: past the header that failed)."""
         found.append(Problem(message, code, reply=not self._troubled))
         self._troubled = True
         self._reset()
-        if skip:
-            self._state = "resync"
+        self._state, self._skip = "resync", skip
 
     def _reset(self) -> None:
         self._state, self._length, self._headers, self._scanned = "headers", None, 0, 0
