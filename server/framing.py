@@ -80,7 +80,7 @@ class FrameReader:
         return self._header(found)
 
     def _header(self, found: list[Body | Problem]) -> bool:
-        end = self._buffer.find(b"\n")
+        end = self._buffer.find(b"\n", 0, MAX_HEADER_LINE + 1)
         if end < 0:
             if len(self._buffer) > MAX_HEADER_LINE:
                 self._fail(found, f"a header line of more than {MAX_HEADER_LINE} bytes")
@@ -99,11 +99,12 @@ class FrameReader:
             self._fail(found, f"not a header: {_preview(line.rstrip(CR))}")
             return True
         name, value = match.group(1).lower(), match.group(2)
-        self._headers += 1
-        if self._headers > MAX_HEADERS:
-            self._fail(found, f"more than {MAX_HEADERS} header lines")
-        elif name == b"content-length":
+        if name == b"content-length":
             self._content_length(found, value)
+        else:
+            self._headers += 1
+            if self._headers > MAX_HEADERS:
+                self._fail(found, f"more than {MAX_HEADERS} header lines")
         if self._state == "headers":
             del self._buffer[:end + 1]
         return True
@@ -111,8 +112,8 @@ class FrameReader:
     def _content_length(self, found: list[Body | Problem], value: bytes) -> None:
         if not _LENGTH.fullmatch(value):
             self._fail(found, f"Content-Length is not a number of bytes: {_preview(value)}")
-        elif self._length is not None:
-            self._fail(found, "two Content-Length headers")
+        elif self._length is not None:  # the frame before it lost its blank line: start again here
+            self._fail(found, "two Content-Length headers", skip=0)
         elif int(value) > self.max_body:
             self._fail(found, f"a message of {int(value)} bytes is over the limit of {self.max_body} bytes",
                        code=INVALID_REQUEST)
