@@ -108,9 +108,23 @@ async def _serve(server: Any, stdin: BinaryIO, stdout: BinaryIO) -> int:
                 break
             await asyncio.sleep(0)  # let answers and checks run between the messages of one read
     stopping.cancel()
+    await _end_tasks()
     if "code" in status:
         return status["code"]
     return 0 if protocol.shut_down else EXIT_CLIENT_GONE
+
+
+async def _end_tasks(patience: float = 10) -> None:
+    """Cancels what still runs (checks, simulations: they kill their child and remove their folder)
+    and collects the outcomes, which asyncio.run would otherwise log as unhandled tracebacks."""
+    tasks = [task for task in asyncio.all_tasks() if task is not asyncio.current_task()]
+    for task in tasks:
+        task.cancel()
+    if tasks:
+        done, _ = await asyncio.wait(tasks, timeout=patience)
+        for task in done:
+            if not task.cancelled():
+                task.exception()  # retrieved: not "never retrieved"
 
 
 def _pump(stdin: BinaryIO, loop: asyncio.AbstractEventLoop, chunks: asyncio.Queue[bytes]) -> None:

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import asyncio
 import os
+import signal
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -170,3 +172,51 @@ def test_cancellation_leaves_nothing(sim: Simulating) -> None:
         sim.session.run(running, timeout=30)
     assert "cancel" in caught.value.message
     assert not sim.leftovers()
+
+
+def _children_of_folder(folder: Path) -> list[str]:
+    """Command lines of running processes that name ``folder`` (a simulator child left running)."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            cmdline = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode("utf-8", "replace")
+        except OSError:
+            continue
+        if proc.name.isdigit() and str(folder) in cmdline:
+            found.append(cmdline)
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/cmdline").exists(), reason="lists processes through /proc")
+@pytest.mark.parametrize("ending", ["sigterm", "end of input", "exit"])
+def test_a_server_that_ends_mid_simulation_leaves_nothing(tmp_path: Path, ending: str) -> None:
+    """The running child is killed and the server's folder removed, however the server is ended."""
+    from tests.server.rawclient import RawServer, notification, request
+
+    server = RawServer(env=dict(os.environ, TMPDIR=str(tmp_path)))
+    try:
+        server.initialize()
+        uri = (tmp_path / "long.rdcd").as_uri()
+        server.send(notification("textDocument/didOpen", {"textDocument": {
+            "uri": uri, "languageId": "rdcd", "version": 1, "text": OBSTACLE}}))
+        server.send(request("sim", "workspace/executeCommand", {"command": "rdcd.simulate", "arguments": [
+            uri, {"config": "car7", "duration": 3600, "world": "lattice"}]}))
+        deadline = time.monotonic() + 60
+        while not _children_of_folder(tmp_path):  # the simulator child runs
+            assert time.monotonic() < deadline, "no simulation started"
+            time.sleep(0.05)
+        if ending == "sigterm":
+            server.process.send_signal(signal.SIGTERM)
+            assert server.wait() == 128 + signal.SIGTERM
+        elif ending == "end of input":
+            assert server.process.stdin is not None
+            server.process.stdin.close()
+            assert server.wait() == 1
+        else:
+            server.send(notification("exit"))
+            assert server.wait() == 1
+    finally:
+        server.kill()
+    assert not list(tmp_path.glob("rdcd-lsp-*")), "the server's folder is removed"
+    assert not _children_of_folder(tmp_path), "the simulator child is not left running"
+    assert "Traceback" not in server.stderr_text()
