@@ -148,7 +148,10 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
     first = _first_error_in_editor(ls, uri, text, shown)
     if first is not None:  # no child needed to say so, and no temporary path in the message
         raise RequestFailed(first)
-    work = scratch.work_folder()
+    try:
+        work = scratch.work_folder()
+    except OSError as error:
+        raise RequestFailed(f"cannot create a temporary folder for the simulation: {error}") from None
     try:
         return await _simulate(ls, uri, text, values, work, shown)
     finally:
@@ -158,16 +161,19 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
 async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work: Path,
                     shown: str) -> dict[str, Any]:
     program, report, plot = work / program_name(uri), work / "report.json", work / "plot.png"
-    program.write_text(text, encoding="utf-8", errors="surrogatepass")  # the simulator refuses it
+    try:
+        program.write_text(text, encoding="utf-8", errors="surrogatepass")  # the simulator refuses those
+    except OSError as error:
+        raise RequestFailed(f"cannot write the program for the simulator: {error}") from None
     task = asyncio.current_task()
     _cancel_with_request(ls, task)
     progress = _Progress(ls)
     await progress.begin("RDCD simulation", lambda: task.cancel() if task is not None else None)
     try:
         process = await asyncio.create_subprocess_exec(
-            *simulate_arguments(program, options, report, plot), stdin=asyncio.subprocess.DEVNULL,
-            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE, cwd=_child_folder(uri, work),
-            env=child_environment())
+            *simulate_arguments(program, beside_document(uri, options), report, plot),
+            stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+            cwd=str(work), env=child_environment())
     except (OSError, ValueError) as error:
         progress.end("failed")
         raise RequestFailed(f"cannot start the simulator: {error}") from None
@@ -217,13 +223,19 @@ def program_name(uri: str) -> str:
     return name if re.fullmatch(r"[\w.-]{1,100}\.rdcd", name, re.ASCII) else "program.rdcd"
 
 
-def _child_folder(uri: str, work: Path) -> str:
-    """The document's folder, so that a relative --config path means what it means beside the file."""
-    folder = Path(display_path(uri)).parent
+def beside_document(uri: str, options: dict[str, str]) -> dict[str, str]:
+    """A relative ``config`` file path read beside the document, as in a terminal in its folder (the
+    child runs in its working folder: a user's folder on its path could shadow the simulator's modules)."""
+    config = options.get("config")
+    if config is None or not uri.startswith("file:") or Path(config).is_absolute():
+        return options
     try:
-        return str(folder) if uri.startswith("file:") and folder.is_dir() else str(work)
+        candidate = Path(display_path(uri)).parent / config
+        if candidate.is_file():
+            return {**options, "config": str(candidate)}
     except (OSError, ValueError):
-        return str(work)
+        pass
+    return options
 
 
 def _first_error_in_editor(ls: Any, uri: str, text: str, shown: str) -> str | None:

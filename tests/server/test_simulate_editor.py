@@ -220,3 +220,14 @@ def test_a_server_that_ends_mid_simulation_leaves_nothing(tmp_path: Path, ending
     assert not list(tmp_path.glob("rdcd-lsp-*")), "the server's folder is removed"
     assert not _children_of_folder(tmp_path), "the simulator child is not left running"
     assert "Traceback" not in server.stderr_text()
+
+
+def test_a_relative_configuration_file_is_read_beside_the_document(sim: Simulating) -> None:
+    from tests.server.conftest import ROOT
+
+    (sim.user / "configs").mkdir(exist_ok=True)
+    (sim.user / "configs" / "my-car.json").write_text((ROOT / "sim" / "configs" / "car7.json").read_text())
+    uri, _ = user_file(sim, "configured.rdcd", OBSTACLE)
+    result = sim.run(uri, {**QUICK, "config": "configs/my-car.json"})
+    assert result["report"]["modules"]
+    assert not sim.leftovers()
