@@ -1,0 +1,39 @@
+"""`rdcd check` as a real process: where its messages point and what they say (issue 10)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from tests.conftest import ROOT
+
+
+def check(path: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "rdcd_core", "check", str(path)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_missing_semicolon_points_at_the_end_of_its_line(tmp_path: Path) -> None:
+    path = tmp_path / "semi.rdcd"
+    path.write_text("role A {\n  startup go() {\n    self.sleep()\n    self.stopTurning();\n  }\n}\n"
+                    "deployment { A }\n", encoding="utf-8")
+    done = check(path)
+    assert done.returncode == 1, done.stdout + done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0] == f"{path}:3:17: error[E004]: expected ';' after the call, found keyword 'self'"
+    assert lines[2] == "3 |     self.sleep()"
+    assert lines[3] == "  |                 ^"
+    assert lines[4] == "  = help: insert ';'"
+    assert lines[-1] == "1 file checked: 1 error, 0 warnings"
+
+
+def test_missing_parenthesis_points_where_it_belongs(tmp_path: Path) -> None:
+    path = tmp_path / "paren.rdcd"
+    path.write_text("role A {\n  startup go() {\n    if (self.y() > 0\n      self.sleep();\n  }\n}\n"
+                    "deployment { A }\n", encoding="utf-8")
+    done = check(path)
+    assert done.returncode == 1
+    first = done.stdout.splitlines()[0]
+    assert first == (f"{path}:3:21: error[E012]: expected ')' to close the 'if' condition opened on line 3, "
+                     "found keyword 'self'")
