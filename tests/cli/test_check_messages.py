@@ -37,3 +37,31 @@ def test_missing_parenthesis_points_where_it_belongs(tmp_path: Path) -> None:
     first = done.stdout.splitlines()[0]
     assert first == (f"{path}:3:21: error[E012]: expected ')' to close the 'if' condition opened on line 3, "
                      "found keyword 'self'")
+
+
+def _sum_program(tmp_path: Path, name: str, terms: list[str]) -> Path:
+    path = tmp_path / name
+    condition = " + ".join(terms) + " > 0"
+    path.write_text(f"role A {{\n  startup go() {{\n    if ({condition}) self.sleep();\n  }}\n}}\n"
+                    "deployment { A }\n", encoding="utf-8")
+    return path
+
+
+def test_a_flat_sum_of_100_terms_is_not_nested_too_deep(tmp_path: Path) -> None:
+    constant = check(_sum_program(tmp_path, "constant.rdcd", ["1", "-1"] * 50))
+    assert constant.returncode == 0, constant.stdout + constant.stderr
+    assert constant.stdout.strip() == "1 file checked: no problems"
+    queries = check(_sum_program(tmp_path, "queries.rdcd", ["self.y()"] * 100))
+    assert queries.returncode == 1
+    assert "nested" not in queries.stdout and "E015" not in queries.stdout
+    # the real limit: the code of 100 additions does not fit a program slot of the target
+    assert "error[E601]: fragment A_startup is" in queries.stdout
+    assert "more than the 64 bytes of a program slot" in queries.stdout
+
+
+def test_a_very_long_chain_gets_its_real_limit(tmp_path: Path) -> None:
+    done = check(_sum_program(tmp_path, "long.rdcd", ["self.y()"] * 5000))
+    assert done.returncode == 1
+    first = done.stdout.splitlines()[0]
+    assert "error[E016]: this has more than 300 operations one inside another" in first
+    assert "nested" not in first and "internal error" not in done.stdout
