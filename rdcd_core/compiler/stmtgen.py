@@ -80,7 +80,8 @@ def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
         ctx.report(codes.UNSUPPORTED, span,
                    f"plain method calls nest too deeply to inline ({len(ctx.inlining) + 1} calls "
                    f"deep: {_chain([*ctx.inlining, name])}: more than {MAX_INLINED_NESTING} levels, "
-                   "each operator of 'a + b + c' counting); call fewer methods inside one another")
+                   "each operator of 'a + b + c' and 'else if' counting); call fewer methods inside "
+                   "one another")
     else:
         saved = ctx.inlined_nesting
         ctx.inlined_nesting += nesting(method.decl.body, ctx)

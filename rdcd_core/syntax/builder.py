@@ -18,8 +18,8 @@ from rdcd_core.syntax.lexer import Tok
 _HUGE = 10**18  # stands for integer literals too long to convert; semantics reports the range
 # Two limits keep the later passes, which recurse over trees, within Python's recursion limit (and
 # dataclass ==): how deeply constructs are nested in one another (brackets, calls, unary operators,
-# blocks, ifs), and the height of the tree, which a chain of operators a + b + c + … also adds to
-# (left-associative, each operator is a level of the tree, though none is nested in another).
+# blocks, ifs), and the height of the tree, which chains also add to though nothing in them is nested:
+# each operator of a + b + c + … (left-associative) and each 'else if' is a level of the tree.
 MAX_DEPTH = 100
 MAX_HEIGHT = 300
 
@@ -150,7 +150,11 @@ class AstBuilder:
         last = else_body if else_body is not None else c[4]
         node = ast.IfStmt(c[2], c[4], else_body, _span(c[0], last),
                           Span(else_kw.start, else_kw.end) if else_kw is not None else None)
-        return _nested(node, (c[2], c[4], else_body))
+        # if … else if … else if … is one level however long, like a + b + c
+        depths = DEPTHS.depth
+        chained = isinstance(else_body, ast.IfStmt)
+        depth = max(depths[id(c[2])], depths[id(c[4])], depths[id(else_body)] - chained) + 1
+        return _nested(node, (c[2], c[4], else_body), depth)
 
     # ------------------------------------------------------------------ calls
 

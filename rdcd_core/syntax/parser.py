@@ -238,8 +238,8 @@ def _drop_too_deep(roles: tuple[ast.RoleDecl, ...], too_deep: list, too_long: li
     for span, long in found[:20]:
         if long:
             message = (f"this has more than {MAX_HEIGHT} operations one inside another (each operator of "
-                       "'a + b + c' counts), more than rdcd takes: split it into constants or methods "
-                       "(it is left out of the analysis)")
+                       "'a + b + c' and each 'else if' counts), more than rdcd takes: split it into "
+                       "constants or methods (it is left out of the analysis)")
             diagnostics.append(make(E_TOO_LONG, span, message))
         else:
             diagnostics.append(make(E_TOO_DEEP, span, f"this is nested more than {MAX_DEPTH} levels deep: "

@@ -98,3 +98,13 @@ def test_retired_codes_are_documented() -> None:
     retired = done.stdout.split("## Retired codes")[1]
     assert "### E602" in retired and "E120" in retired
     assert "[E602]" not in done.stdout.split("## Retired codes")[0]
+
+
+def test_a_long_else_if_chain_is_not_nested_too_deep(tmp_path: Path) -> None:
+    path = tmp_path / "elif.rdcd"
+    chain = "\n    else ".join(f"if (self.y() == {k}) self.setLed({k});" for k in range(120))
+    text = f"role A {{\n  self.x() > 0;\n  startup go() {{\n    {chain}\n  }}\n}}\ndeployment {{ A }}\n"
+    path.write_text(text, encoding="utf-8")
+    done = check(path)
+    assert "E015" not in done.stdout and "nested" not in done.stdout, done.stdout[:500]
+    assert "error[E601]: fragment A_startup is" in done.stdout  # the target's real limit

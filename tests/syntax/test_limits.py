@@ -52,6 +52,15 @@ def test_a_flat_chain_is_not_nesting() -> None:
     assert "nested" not in messages[0]
 
 
+def test_an_else_if_chain_is_not_nesting() -> None:
+    chain = " else ".join(f"if (x == {k % 100}) self.setLed({k % 100});" for k in range(MAX_HEIGHT - 10))
+    assert parse(f"role A {{ startup f() {{ {chain} }} }}\ndeployment {{ A }}").diagnostics == []
+    chain = " else ".join(f"if (x == {k % 100}) self.setLed({k % 100});" for k in range(N))
+    result = parse(f"role A {{ startup f() {{ {chain} }} }}\ndeployment {{ A }}")
+    assert [d.code for d in result.diagnostics] == ["E016"]
+    assert "each 'else if' counts" in result.diagnostics[0].message
+
+
 def test_deep_if_chains() -> None:
     text = "role A { startup f() { " + "if (x) " * N + "; } }\ndeployment { A }"
     result = parse(text)
