@@ -15,8 +15,15 @@ from __future__ import annotations
 import difflib
 
 from rdcd_core.diagnostics import TextEdit
-from rdcd_core.source import (LineIndex, Span, count_line_breaks, has_line_break, newline_of,
-                              normalize_newlines, split_lines)
+from rdcd_core.source import (
+    LineIndex,
+    Span,
+    count_line_breaks,
+    has_line_break,
+    newline_of,
+    normalize_newlines,
+    split_lines,
+)
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.parser import parse
 
