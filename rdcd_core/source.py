@@ -18,6 +18,7 @@ from rdcd_core.fastinit import fast_init
 
 LINE_BREAK = re.compile(r"\r\n?|\n")
 """A line break: ``\\r\\n`` is one break, a ``\\r`` or ``\\n`` alone is one too."""
+_LF = re.compile("\n")
 
 
 def split_lines(text: str, keepends: bool = False) -> list[str]:
@@ -102,15 +103,11 @@ class LineIndex:
 
     def __init__(self, text: str) -> None:
         self.text = text
-        if "\r" in text:
-            self.line_starts = [0, *(match.end() for match in LINE_BREAK.finditer(text))]
-            return
-        self.line_starts = [0]
-        find = text.find
-        newline = find("\n")
-        while newline >= 0:
-            self.line_starts.append(newline + 1)
-            newline = find("\n", newline + 1)
+        # The common texts (no \r, or every \r in a \r\n) have a line start after each \n and nowhere
+        # else; one plain search finds those fastest.
+        plain = "\r" not in text or text.count("\r") == text.count("\r\n")
+        pattern = _LF if plain else LINE_BREAK
+        self.line_starts = [0, *[match.end() for match in pattern.finditer(text)]]
 
     def line_col(self, offset: int) -> LineCol:
         offset = max(0, min(offset, len(self.text)))

@@ -27,22 +27,28 @@ Change = types.TextDocumentContentChangePartial | types.TextDocumentContentChang
 _SYNC = (types.TEXT_DOCUMENT_DID_OPEN, types.TEXT_DOCUMENT_DID_CHANGE, types.TEXT_DOCUMENT_DID_CLOSE)
 
 
-def apply_change(text: str, change: Change, encoding: str = "utf-16") -> str:
-    """``text`` after one content change; its range is read in the negotiated position encoding.
+def apply_change(text: str, change: Change, encoding: str = "utf-16",
+                 positions: Positions | None = None) -> str:
+    """``text`` after one content change; its range is read in the negotiated position encoding
+    (``positions``, if given, are those of ``text`` in it).
 
     Positions past the end of a line mean its end, lines past the last one the end of the text
     (as the LSP says); a range given backwards is taken forwards."""
     range_ = getattr(change, "range", None)
     if range_ is None:
         return change.text
-    span = Positions(LineIndex(text), encoding).span(range_)
+    if positions is None or positions.index.text is not text or positions.encoding != encoding:
+        positions = Positions(LineIndex(text), encoding)
+    span = positions.span(range_)
     return text[:span.start] + change.text + text[span.end:]
 
 
-def apply_changes(text: str, changes: Iterable[Change], encoding: str = "utf-16") -> str:
-    """``text`` after the changes of one didChange, each on the text the one before left."""
+def apply_changes(text: str, changes: Iterable[Change], encoding: str = "utf-16",
+                  positions: Positions | None = None) -> str:
+    """``text`` after the changes of one didChange, each on the text the one before left
+    (``positions`` as for ``apply_change``: a line index of ``text`` already built is reused)."""
     for change in changes:
-        text = apply_change(text, change, encoding)
+        text = apply_change(text, change, encoding, positions)
     return text
 
 
@@ -74,7 +80,8 @@ def register(server: RdcdServer) -> None:
                 return
             ls.opened(uri, apply_changes("", changes[whole[-1]:], ls.encoding), version)
             return
-        document.update(apply_changes(document.text, changes, ls.encoding), version)
+        text = apply_changes(document.text, changes, ls.encoding, ls.positions(document))
+        document.update(text, version)
         ls.changed(document)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
