@@ -5,8 +5,9 @@ Random documents in every line-break style, with form feeds, U+2028 and the othe
 line-break-like character, in each position encoding. The server's text is observed only
 through what it answers:
 
-- after every edit, its Format Document edits applied to the client's text give exactly
-  ``format_text`` of the client's text (a drifted copy comments out or deletes code);
+- after every didChange (of one to three changes, now and then a whole-document one), its Format
+  Document edits applied to the client's text give exactly ``format_text`` of the client's text
+  (a drifted copy comments out or deletes code), and its range formatting ``format_range``'s;
 - at the end, its diagnostics are those of ``check_text`` of the client's text, on the lines
   and columns the LSP's definition of a line gives (the lines ``rdcd check`` prints);
 - and the edited document answers semantic tokens, folding ranges and document symbols exactly
@@ -26,8 +27,9 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from lsprotocol import types
 
-from rdcd_core.formatter import format_text
+from rdcd_core.formatter import format_range, format_text
 from rdcd_core.frontend import check_text
+from rdcd_core.source import Span
 from rdcd_core.syntax.tables import tables
 from tests import line_reference as ref
 from tests.server.conftest import ROOT, Session, doc, make_client
@@ -148,6 +150,20 @@ def assert_formats_like_the_client(session: EncodedSession, uri: str, text: str)
         assert apply_lsp_edits(text, edits, session.encoding) == expected
 
 
+def assert_range_formats_like_the_client(session: EncodedSession, uri: str, text: str, line: int) -> None:
+    """Range formatting of one line (and the roles on it) answers as ``format_range`` of the client's text."""
+    start = ref.offset(text, line, 0, session.encoding)
+    params = types.DocumentRangeFormattingParams(
+        text_document=doc(uri), range=range_of(text, start, start, session.encoding),
+        options=types.FormattingOptions(tab_size=2, insert_spaces=True))
+    edits = session.request(types.TEXT_DOCUMENT_RANGE_FORMATTING, params) or []
+    expected = text
+    wanted = format_range(text, Span(start, start)) or []
+    for edit in sorted(wanted, key=lambda e: e.span.start, reverse=True):
+        expected = expected[:edit.span.start] + edit.new_text + expected[edit.span.end:]
+    assert apply_lsp_edits(text, list(edits), session.encoding) == expected
+
+
 def assert_diagnostics_like_the_cli(session: EncodedSession, uri: str, text: str) -> None:
     published = session.diagnostics(uri, session.versions[uri])
     expected = check_text(text).diagnostics
@@ -183,13 +199,19 @@ def test_the_servers_text_is_the_clients(session: EncodedSession, data: st.DataO
     text = data.draw(documents(), label="document")
     session.open(uri, text)
     assert_formats_like_the_client(session, uri, text)
-    for _ in range(data.draw(st.integers(1, 8), label="edits")):
-        start, end, insert = data.draw(edits(text), label="edit")
-        change = types.TextDocumentContentChangePartial(range=range_of(text, start, end, session.encoding),
-                                                        text=insert)
-        session.change(uri, [change], wait=False)
-        text = text[:start] + insert + text[end:]
+    for _ in range(data.draw(st.integers(1, 8), label="notifications")):
+        changes: list[Any] = []
+        for _ in range(data.draw(st.integers(1, 3), label="changes in one notification")):
+            # each change's range is read on the text the one before it left, as the LSP says
+            start, end, insert = data.draw(edits(text), label="edit")
+            changes.append(types.TextDocumentContentChangePartial(
+                range=range_of(text, start, end, session.encoding), text=insert))
+            text = text[:start] + insert + text[end:]
+        if data.draw(st.integers(0, 9), label="whole document") == 0:
+            changes.append(types.TextDocumentContentChangeWholeDocument(text=text))
+        session.change(uri, changes, wait=False)
         assert_formats_like_the_client(session, uri, text)
+        assert_range_formats_like_the_client(session, uri, text, data.draw(st.integers(0, 30), label="line"))
     event("formattable at the end" if format_text(text) is not None else "syntax errors at the end")
     assert_diagnostics_like_the_cli(session, uri, text)
     assert_views_like_a_fresh_copy(session, uri, text)
