@@ -18,8 +18,11 @@ from __future__ import annotations
 
 import asyncio
 import itertools
+import json
+import subprocess
 import sys
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -234,4 +237,23 @@ def test_an_edit_below_u2028_and_a_form_feed_lands_where_the_editor_put_it(lsp: 
                                             options=types.FormattingOptions(tab_size=2, insert_spaces=True))
     edits = lsp.request(types.TEXT_DOCUMENT_FORMATTING, params)
     assert apply_lsp_edits(text, list(edits or []), "utf-16") == text.replace("5+0", "5 + 0")
+    lsp.close_document(uri)
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n", "\r"])
+def test_diagnostics_are_on_the_lines_rdcd_check_prints(lsp: Session, tmp_path: Path, newline: str) -> None:
+    text = newline.join(["role A { // x\u2028y\x85z", "  /* page\fbreak */ self.y() > EAST_WST;",
+                         "  self.y() >\v 0;", "}", "deployment { A }", ""])
+    uri = f"file:///virtual/sync-cli-{len(newline)}-{newline == chr(13)}.rdcd"
+    published = lsp.open(uri, text)
+    path = tmp_path / "prog.rdcd"
+    path.write_bytes(text.encode("utf-8"))
+    done = subprocess.run([sys.executable, "-m", "rdcd_core", "check", "--format", "json", str(path)],
+                          cwd=ROOT, capture_output=True, timeout=60)
+    printed = json.loads(done.stdout)["diagnostics"]
+    assert len(published) == len(printed) > 0
+    for got, want in zip(published, printed, strict=True):
+        # the CLI counts code points from 1; every character before the faults is in the BMP
+        assert (got.range.start.line + 1, got.range.start.character + 1) == (want["line"], want["column"])
+        assert got.code == want["code"]
     lsp.close_document(uri)
