@@ -5,9 +5,10 @@ member or statement stay on their own lines before it; comments on the same line
 something stay on that line. Formatting never changes the AST (``ast.strip_spans``) and is
 idempotent. Blocks passed as arguments stay on one line when the user wrote them on one line.
 
-Lines are the LSP's (``rdcd_core.source``): a text keeps the line break it starts with (``\r\n``,
-``\r`` or ``\n``), and every line break it prints, those inside block comments too, is that one.
-Form feed, U+2028 and the like inside comments are kept as they are: they do not end a line.
+Lines are the LSP's (``rdcd_core.source``): a text keeps the line break it starts with
+(``\\r\\n``, ``\\r`` or ``\\n``), and every line break it prints, those inside block comments
+too, is that one. Form feed, U+2028 and the like inside comments are kept as they are: they do
+not end a line.
 """
 
 from __future__ import annotations
@@ -140,7 +141,7 @@ class _Printer:
 
     @staticmethod
     def _comment(comment: ast.Comment) -> str:
-        """A comment's text with its line breaks as ``\n`` (``join`` writes them in the text's style)."""
+        """A comment's text with its line breaks as ``\\n`` (``join`` writes them in the text's style)."""
         return normalize_newlines(comment.text)
 
     def join(self, lines: list[str]) -> str:
