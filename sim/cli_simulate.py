@@ -33,6 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", metavar="OUT.png", help="write a top-view plot here")
     parser.add_argument("--record", metavar="OUT.gif", help="write an animated GIF (physics world)")
     parser.add_argument("--gui", action="store_true", help="show PyBullet's window (needs a display)")
+    parser.add_argument("--vm", choices=("default", "original"), default="default",
+                        help="VM profile of every module: this project's DCD-VM (default) or the original "
+                             "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
 
 
 def _fail(message: str) -> int:
@@ -115,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
 
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
-                      progress=_progress_bar(), realtime=args.gui)
+                      progress=_progress_bar(), realtime=args.gui, vm=args.vm)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui

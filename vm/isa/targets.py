@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vm import navigation as nav
 from vm.isa.opcodes import INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
 
 
@@ -25,6 +26,8 @@ class Quirks:
     apply_64_broadcasts: bool = False  # APPLY with f = 64 broadcasts command a to every role
     no_duplicate_suppression: bool = False  # programs circulate in cyclic structures
     ud_offsets_swapped: bool = False  # UD channel 5/7 x-offsets swapped (coordinates learned wrong)
+    unknown_instruction_halts: bool = False  # an opcode it does not execute halts the module
+    no_acknowledgements: bool = False  # packets are sent once: no acks, no retransmission (dcd-vm.md §6)
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,8 +72,16 @@ ORIGINAL = Target(
     quirks=Quirks(enable_event_toggles=True, connected_dir_sizeof_popcount_of_count=True,
                   connected_dir_sizeof_limited=True, connected_physical_bits=True,
                   handler_refires_with_zero=True, apply_64_broadcasts=True,
-                  no_duplicate_suppression=True, ud_offsets_swapped=True),
+                  no_duplicate_suppression=True, ud_offsets_swapped=True,
+                  unknown_instruction_halts=True, no_acknowledgements=True),
     description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
 )
 
 TARGETS: dict[str, Target] = {target.name: target for target in (DEFAULT, ORIGINAL)}
+
+# CONNECTED_DIR_SIZEOF on the firmware (Quirks.connected_dir_sizeof_limited): the directions it
+# supports per module axis; any other axis or direction halts the module (dcd-vm.md §10).
+DIR_SIZEOF_SUPPORTED: dict[int, frozenset[int]] = {
+    nav.NORTH_SOUTH: frozenset({nav.NORTH, nav.DOWN}),
+    nav.EAST_WEST: frozenset({nav.UP, nav.EAST, nav.WEST, nav.DOWN, nav.NORTH}),
+}
