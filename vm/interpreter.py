@@ -17,7 +17,7 @@ from enum import Enum
 from typing import Protocol
 
 from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE, signed_byte
-from vm.isa.targets import DEFAULT, DIR_SIZEOF_SUPPORTED, Target
+from vm.isa.targets import DEFAULT, Target
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
 from vm.roles import ANY_ROLE
 
@@ -162,7 +162,7 @@ def _connected_dir_sizeof(m: Machine, d: int, target: Target) -> int:
     """The number of connected channels facing d; the firmware pushes the bits set *in that count*
     and knows only some axis/direction pairs (the others halt it)."""
     q = target.quirks
-    if q.connected_dir_sizeof_limited and d not in DIR_SIZEOF_SUPPORTED.get(m.axis_code(), ()):
+    if q.connected_dir_sizeof_limited and not target.dir_sizeof_runs(m.axis_code(), d):
         axis = AXIS_NAMES.get(m.axis_code(), "unknown")
         raise VMError(f"CONNECTED_DIR_SIZEOF {DIRECTION_NAMES[d]} is not supported on a {axis} module",
                       halts=q.unknown_instruction_halts)

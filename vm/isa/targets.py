@@ -10,8 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vm import navigation as nav
-from vm.isa.opcodes import INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
+from vm.isa.opcodes import BY_NAME, INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
 
 
 @dataclass(frozen=True, slots=True)
@@ -40,9 +39,20 @@ class Target:
     program_slots: int
     quirks: Quirks
     description: str
+    # (axis, direction) pairs for which CONNECTED_DIR_SIZEOF runs; None = every pair. Elsewhere the
+    # firmware halts the module (dcd-vm.md §10).
+    dir_sizeof_pairs: frozenset[tuple[int, int]] | None = None
 
     def implements(self, opcode: int) -> bool:
         return opcode >= 128 or opcode in self.opcodes
+
+    def implements_name(self, name: str) -> bool:
+        """Whether the instruction called ``name`` (``vm.isa.opcodes``) runs on this target."""
+        info = BY_NAME.get(name)
+        return info is not None and info.opcode in self.opcodes
+
+    def dir_sizeof_runs(self, axis: int, direction: int) -> bool:
+        return self.dir_sizeof_pairs is None or (axis, direction) in self.dir_sizeof_pairs
 
 
 def _ranges(*spans: tuple[int, int]) -> frozenset[int]:
@@ -75,13 +85,8 @@ ORIGINAL = Target(
                   no_duplicate_suppression=True, ud_offsets_swapped=True,
                   unknown_instruction_halts=True, no_acknowledgements=True),
     description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
+    # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (dcd-vm.md §5, §10)
+    dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
 )
 
 TARGETS: dict[str, Target] = {target.name: target for target in (DEFAULT, ORIGINAL)}
-
-# CONNECTED_DIR_SIZEOF on the firmware (Quirks.connected_dir_sizeof_limited): the directions it
-# supports per module axis; any other axis or direction halts the module (dcd-vm.md §10).
-DIR_SIZEOF_SUPPORTED: dict[int, frozenset[int]] = {
-    nav.NORTH_SOUTH: frozenset({nav.NORTH, nav.DOWN}),
-    nav.EAST_WEST: frozenset({nav.UP, nav.EAST, nav.WEST, nav.DOWN, nav.NORTH}),
-}
