@@ -129,6 +129,8 @@ class ModuleRuntime(ModuleNode):
     def _run_tasks(self) -> None:
         now = self.hal.now()
         for task in list(self.store.tasks):
+            if self.halted:
+                return
             if task not in self.store.tasks or not self._due(task, now):
                 continue
             task.wake_time = task.wake_turns = None
