@@ -25,7 +25,7 @@ log = logging.getLogger("rdcd.server")
 SIMULATE = "rdcd.simulate"
 SHOW_BYTECODE = "rdcd.showBytecode"
 OPTION_FLAGS = {"config": "--config", "obstacle": "--obstacle", "duration": "--duration", "seed": "--seed",
-                "world": "--world", "packetLoss": "--packet-loss"}
+                "world": "--world", "packetLoss": "--packet-loss", "vm": "--vm"}
 
 
 def simulate_arguments(program: Path, options: dict[str, Any], report: Path, plot: Path) -> list[str]:

@@ -52,6 +52,7 @@ describe("package.json", () => {
       "rdcd.simulate.config",
       "rdcd.simulate.obstacle",
       "rdcd.simulate.duration",
+      "rdcd.simulate.vm",
       "rdcd.trace.server",
     ]) {
       assert.ok(settings.includes(name), name);
