@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from rdcd_core.compiler import lowering
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.fold import fold, type_of
 from rdcd_core.compiler.ir import Item, Label
@@ -26,6 +27,11 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
         left, right, op = _move_constant(left, right, op, constant.value, ctx)
         constant = fold(right, ctx)
     span = expr.span
+    direction = lowering.connected_direction(left, ctx)
+    if (constant is not None and direction is not None
+            and ctx.target.quirks.connected_dir_sizeof_popcount_of_count):
+        lowering.dir_count_jump(direction, op, constant.value, target, when, ctx, out, span)
+        return
     if op in ("==", "!=") and type_of(left, ctx) is Type.BOOL:
         _bool_equality(left, right, target, when == (op == "=="), ctx, out)
         return
@@ -44,7 +50,7 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
             g.truth(left, ctx, out)
             g.jump_on(not when, target, out, span)
             return
-        if op in ("==", "!=") and 1 <= k <= 4:
+        if op in ("==", "!=") and 1 <= k <= 4 and ctx.has(f"EQUALS_{k}"):
             g.value(left, ctx, out)
             g.emit(out, f"EQUALS_{k}", span=span)
             g.jump_on(when == (op == "=="), target, out, span)
@@ -71,6 +77,9 @@ def _move_constant(left: ast.Node, right: ast.Node, op: str, k: int, ctx: Contex
     from rdcd_core.compiler import exprgen as g
 
     inner = ast.unparen(left)
+    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE") and -k <= 127:
+        # -a op k  <=>  a mirror(op) -k, where the target cannot negate
+        return _move_constant(inner.operand, _literal(-k, right), g.MIRROR[op], -k, ctx)
     if not isinstance(inner, ast.Binary) or inner.op not in "+-":
         return left, right, op
     a, c = fold(inner.left, ctx), fold(inner.right, ctx)

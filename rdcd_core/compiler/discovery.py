@@ -55,25 +55,43 @@ def candidates(expr: ast.Node, ctx: Context) -> list[ast.Node]:
 def emit_test(expr: ast.Node, ctx: Context, fail: Label, paths: int, out: list[Item]) -> int:
     """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass."""
     mask = state_mask(expr, ctx)
-    if mask is None:
-        cjump(expr, fail, False, ctx, out)
-        return paths
-    if paths & ~mask == 0:
-        return paths
-    if paths & mask == 0:
-        emit(out, "GOTO", fail, span=expr.span)
-        return 0
+    saved, ctx.states = ctx.states, paths  # the tests run in the states the earlier ones let through
+    try:
+        if mask is None:
+            cjump(expr, fail, False, ctx, out)
+            return paths
+        if paths & ~mask == 0:
+            return paths
+        if paths & mask == 0:
+            emit(out, "GOTO", fail, span=expr.span)
+            return 0
+        out.extend(_cheapest_test(expr, mask, ctx, fail, paths))
+        return paths & mask
+    finally:
+        ctx.states = saved
+
+
+def _cheapest_test(expr: ast.Node, mask: int, ctx: Context, fail: Label, paths: int) -> list[Item]:
+    """The smallest code among the tests that agree with ``expr`` on ``paths`` and that the target
+    can run; if none can, ``expr``'s own code with the diagnostics that say why."""
     best: list[Item] | None = None
+    refused: list | None = None
     for candidate in candidates(expr, ctx):
         other = state_mask(candidate, ctx)
         if other is None or (other ^ mask) & paths:
             continue
         code: list[Item] = []
+        kept, ctx.diagnostics = ctx.diagnostics, []
         cjump(candidate, fail, False, ctx, code)
+        problems, ctx.diagnostics = ctx.diagnostics, kept
+        if problems:  # the target cannot run this form
+            refused = refused if refused is not None else problems
+            continue
         if best is None or code_size(code) < code_size(best):
             best = code
-    out.extend(best or [])
-    return paths & mask
+    if best is None and refused:
+        ctx.diagnostics.extend(refused)
+    return best or []
 
 
 def invariants(ctx: Context) -> list[ast.Node]:
@@ -82,7 +100,11 @@ def invariants(ctx: Context) -> list[ast.Node]:
 
 def signature(expr: ast.Node, ctx: Context) -> tuple:
     code: list[Item] = []
+    kept, ctx.diagnostics = ctx.diagnostics, []  # only compares code: emit_test reports
     cjump(expr, Label(), False, ctx, code)
+    problems, ctx.diagnostics = ctx.diagnostics, kept
+    if problems:  # code the target cannot run is no code to share
+        return (("unexpressed", ctx.role, id(expr)),)
     return tuple((i.op, tuple("L" if isinstance(a, Label) else a for a in i.args))
                  for i in code if isinstance(i, Ins))
 
@@ -99,11 +121,15 @@ def common_prefix(ctxs: list[Context]) -> int:
     return count
 
 
-def role_mask(exprs: list[ast.Node], ctx: Context) -> int | None:
+def role_mask(exprs: list[ast.Node], ctx: Context, *, local_only: bool = False) -> int | None:
+    """The states where every expression holds; None if one is not local (``local_only``: the
+    states where every local one holds, non-local ones ignored)."""
     mask = ALL_STATES
     for expr in exprs:
         part = state_mask(expr, ctx)
         if part is None:
+            if local_only:
+                continue
             return None
         mask &= part
     return mask

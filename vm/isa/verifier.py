@@ -33,15 +33,16 @@ class _Rules:
 
 
 def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT,
-           target: Target | None = None) -> list[str]:
-    """Errors of a fragment ([] when it is well formed)."""
+           target: Target | None = None, max_stack: int = MAX_STACK) -> list[str]:
+    """Errors of a fragment ([] when it is well formed). ``max_stack`` applies without a target
+    (the compiler raises it to tell a malformed fragment from one over a target's limits)."""
     if isinstance(code, int):  # bytes(n) would make n zero bytes
         return [f"not a fragment: {type(code).__name__}"]
     try:
         code = bytes(code)
     except (TypeError, ValueError) as error:
         return [f"not a fragment: {error}"]
-    rules = _Rules(strict, max_size)
+    rules = _Rules(strict, max_size, max_stack)
     if target is not None:
         rules = _Rules(strict, min(max_size, target.slot_bytes), target.max_stack, target)
     return _verify(code, rules, depth=0)
