@@ -36,6 +36,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
                              "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
+    parser.add_argument("--target", choices=("default", "original"), default=None,
+                        help="compile the program for this target (default: the one --vm names)")
 
 
 def _fail(message: str) -> int:
@@ -67,7 +69,7 @@ def _check_options(args: argparse.Namespace) -> str | None:
     return None
 
 
-def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
+def _compile(path: str, target: str):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
     from rdcd_core.cli_compile import compile_text
     from rdcd_core.diagnostics import Severity
@@ -77,7 +79,7 @@ def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
         text = read_source(path)
     except InputError as e:
         return _fail(str(e))
-    result, program, diagnostics = compile_text(text)
+    result, program, diagnostics = compile_text(text, target=target)
     errors = [d for d in diagnostics if d.severity is Severity.ERROR]
     for diagnostic in errors:
         sys.stderr.write(render_text(path, result, diagnostic))
@@ -110,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
         structure = load_config(args.config)
     except ConfigError as e:
         return _fail(str(e))
-    program = _compile(args.file)
+    program = _compile(args.file, args.target or args.vm)
     if isinstance(program, int):
         return program
     from sim.robot import RobotError

@@ -64,6 +64,7 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
     report: dict[str, Any] = {
         "world": options.world,
         "vm": options.vm,
+        "target": program.target,
         "config": structure.name or options.config,
         "obstacle": options.obstacle,
         "duration_s": options.duration,
@@ -130,8 +131,11 @@ def summary(report: dict[str, Any]) -> str:
 
 
 def _vm(report: dict[str, Any]) -> str:
-    vm = report.get("vm", "default")
-    return "" if vm == "default" else f" ({vm} VM)"
+    """The VM profile and the compile target, when they are not both the default."""
+    vm, target = report.get("vm", "default"), report.get("target", "default")
+    if vm == target == "default":
+        return ""
+    return f" ({vm} VM" + ("" if target == vm else f", program compiled for the {target} target") + ")"
 
 
 MAX_ERROR_LINES = 6
