@@ -130,3 +130,30 @@ def test_car8_cyclic_shows_the_circulation_failure_on_the_firmware() -> None:
     assert run.world.counters.sent - before > 100  # still circulating
     default = start(structure_name, target="original", vm=DEFAULT)
     assert default.problems() == []
+
+
+def _flashes_with_an_obstacle_at_the_head(vm) -> tuple[int, int]:  # noqa: ANN001
+    """snake_wave (original target) with an obstacle cell in front of the Head's sensor 0 for
+    2 s: (handler detections logged, flash commands run on the Body modules)."""
+    world, _ = _snake("original", vm, seconds=6.0)
+    structure = world.structure
+    head = max(structure.modules, key=lambda m: structure.modules[m].position[1])
+    (x, y, z), (dx, dy, dz) = structure.modules[head].position, structure.physical_direction(head, 0)
+    since = len(world.events)
+    world.set_obstacles(frozenset({(x + dx, y + dy, z + dz)}))
+    world.advance(2.0)
+    world.set_obstacles(frozenset())
+    world.advance(1.0)
+    events = world.events[since:]
+    detections = sum(1 for _, m, kind, _ in events if kind == "handler" and m == head)
+    flashes = sum(1 for _, m, kind, d in events if kind == "command" and d["command"] == 128 and m != head)
+    return detections, flashes
+
+
+def test_a_handler_that_keeps_its_event_enabled_re_fires_on_the_firmware() -> None:
+    """snake_wave's Head handler does not disable its event (the compiler warns, W604): on the
+    firmware it runs on every scheduler step while the sensor sees, flooding flash commands."""
+    detections, flashes = _flashes_with_an_obstacle_at_the_head(ORIGINAL)
+    assert detections == 1 and flashes > 3 * 20  # 3 Body modules, about every step for 2 s
+    detections, flashes = _flashes_with_an_obstacle_at_the_head(DEFAULT)
+    assert (detections, flashes) == (1, 3)  # once per detection in this project's VM
