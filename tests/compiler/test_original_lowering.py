@@ -43,7 +43,8 @@ def atoms() -> st.SearchStrategy[str]:
         st.builds(lambda c, m, op, n: f"self.{c}() + {m} {op} {n}", st.sampled_from("xy"),
                   st.integers(-2, 2), st.sampled_from(OPS), k),
         st.builds(lambda c, op, n: f"-self.{c}() {op} {n}", st.sampled_from("xy"), st.sampled_from(OPS), k),
-        st.builds(lambda d, op: f"self.connected({d}) {op} 0", st.sampled_from(DIRS), st.sampled_from(("<", ">"))),
+        st.builds(lambda d, op: f"self.connected({d}) {op} 0", st.sampled_from(DIRS),
+                  st.sampled_from(("<", ">"))),
         st.builds(lambda op: f"self.total_connected() {op} 0", st.sampled_from(("<", ">"))),
         st.builds(lambda d, op: f"sizeof(self.total_connected()) {op} sizeof(self.connected({d}))",
                   st.sampled_from(DIRS), st.sampled_from(OPS)),
@@ -190,10 +191,12 @@ def test_enable_event_is_emitted_so_that_it_enables_on_the_firmware_too(obstacle
 
 def test_handlers_that_do_not_disable_their_event_first_are_warned_about():
     text = ("role A { self.y() > 0;\n  startup s() {\n"
-            "    self.handleEvent(EVENT_PROXIMITY_1, { self.disableEvent(EVENT_PROXIMITY_1); self.sleep(); });\n"
+            "    self.handleEvent(EVENT_PROXIMITY_1, { self.disableEvent(EVENT_PROXIMITY_1);\n"
+            "                                          self.sleep(); });\n"
             "    self.handleEvent(EVENT_PROXIMITY_2, { self.clearEvent(EVENT_PROXIMITY_2); });\n"
             "    self.handleEvent(EVENT_PROXIMITY_3, { self.disableEvent(EVENT_PROXIMITY_1); });\n"
-            "    self.handleEvent(EVENT_PROXIMITY_4, { self.sleep(); self.disableEvent(EVENT_PROXIMITY_4); });\n"
+            "    self.handleEvent(EVENT_PROXIMITY_4, { self.sleep();\n"
+            "                                          self.disableEvent(EVENT_PROXIMITY_4); });\n"
             "  } }\ndeployment { A }\n")
     result = check_text(text, target="original")
     warned = [text[d.span.start:d.span.end] for d in result.diagnostics if d.code == "W604"]
