@@ -14,6 +14,7 @@ from vm.isa.targets import DEFAULT, TARGETS
 
 def to_json(program: CompiledProgram) -> dict[str, object]:
     return {
+        "target": program.target,
         "packet_budget": program.packet_budget,
         "total_bytes": program.total_bytes,
         "max_fragment_bytes": program.max_fragment_bytes,
