@@ -160,7 +160,7 @@ def bytecode_listing(ls: Any, uri: Any) -> str:
 
     text = _document_text(ls, uri)
     document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
-    analysis = document.current() if document is not None else analyze(text)
+    analysis = document.current() if document is not None else analyze(text, target=ls.settings.target)
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     program = analysis.compiled() if analysis.model is not None and not errors else None
     if program is None:

@@ -2,7 +2,8 @@
 
 Accepted shapes: ``{"rdcd": {"inlayHints": {"fragmentSizes": false}}}``,
 ``{"inlayHints": {"fragmentSizes": false}}`` and the flat ``{"rdcd.inlayHints.fragmentSizes": false}``;
-the same for ``diagnostics.debounceMs``.
+the same for ``diagnostics.debounceMs`` and ``target`` (``"default"`` or ``"original"``: what
+programs are checked and compiled for, ``rdcd check --target``).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ DEFAULT_DEBOUNCE_MS = 50
 class Settings:
     debounce_ms: float = float(os.environ.get("RDCD_LSP_DEBOUNCE_MS", DEFAULT_DEBOUNCE_MS))
     fragment_size_hints: bool = True
+    target: str = "default"
 
     def update(self, options: Any) -> None:
         if not isinstance(options, dict):
@@ -25,6 +27,12 @@ class Settings:
         value = _lookup(options, "inlayHints.fragmentSizes")
         if isinstance(value, bool):
             self.fragment_size_hints = value
+        value = _lookup(options, "target")
+        if isinstance(value, str):
+            from rdcd_core.compiler import TARGETS  # the server reaches the VM only through rdcd_core
+
+            if value in TARGETS:
+                self.target = value
         value = _lookup(options, "diagnostics.debounceMs")
         if isinstance(value, (int, float)) and not isinstance(value, bool) and value >= 0:
             self.debounce_ms = float(value)

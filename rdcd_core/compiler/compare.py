@@ -42,15 +42,18 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
             g.jump_on(when == (op == "=="), target, out, span)
             return
         nonneg = is_nonnegative(left, ctx)
-        if (op == "!=" and k == 0) or (nonneg and (op, k) in ((">", 0), (">=", 1))):
+        readable = _readable(left, ctx)  # else only the fused comparisons below read it
+        if not readable:
+            pass
+        elif (op == "!=" and k == 0) or (nonneg and (op, k) in ((">", 0), (">=", 1))):
             g.truth(left, ctx, out)
             g.jump_on(when, target, out, span)
             return
-        if (op == "==" and k == 0) or (nonneg and (op, k) in (("<=", 0), ("<", 1))):
+        if readable and ((op == "==" and k == 0) or (nonneg and (op, k) in (("<=", 0), ("<", 1)))):
             g.truth(left, ctx, out)
             g.jump_on(not when, target, out, span)
             return
-        if op in ("==", "!=") and 1 <= k <= 4 and ctx.has(f"EQUALS_{k}"):
+        if readable and op in ("==", "!=") and 1 <= k <= 4 and ctx.has(f"EQUALS_{k}"):
             g.value(left, ctx, out)
             g.emit(out, f"EQUALS_{k}", span=span)
             g.jump_on(when == (op == "=="), target, out, span)
@@ -69,6 +72,16 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
     else:
         g.compare(left, right, op, ctx, out, span)
         g.jump_on(when, target, out, span)
+
+
+def _readable(expr: ast.Node, ctx: Context) -> bool:
+    """Whether the target can push the value of ``expr`` when it is a coordinate query (the
+    original firmware only compares x and y with a value)."""
+    from rdcd_core.compiler import exprgen as g
+
+    inner = ast.unparen(expr)
+    name = g.query_name(inner)
+    return not (isinstance(inner, ast.SelfCall) and name in g.COORDS) or ctx.has(f"COORD_{g.COORDS[name]}")
 
 
 def _move_constant(left: ast.Node, right: ast.Node, op: str, k: int, ctx: Context) -> tuple:

@@ -53,7 +53,12 @@ def candidates(expr: ast.Node, ctx: Context) -> list[ast.Node]:
 
 
 def emit_test(expr: ast.Node, ctx: Context, fail: Label, paths: int, out: list[Item]) -> int:
-    """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass."""
+    """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass. A
+    conjunction is tested part by part, each part in the states the parts before let through."""
+    inner = ast.unparen(expr)
+    if isinstance(inner, ast.Binary) and inner.op == "&&":
+        paths = emit_test(inner.left, ctx, fail, paths, out)
+        return emit_test(inner.right, ctx, fail, paths, out)
     mask = state_mask(expr, ctx)
     saved, ctx.states = ctx.states, paths  # the tests run in the states the earlier ones let through
     try:

@@ -42,6 +42,9 @@ class Target:
     # (axis, direction) pairs for which CONNECTED_DIR_SIZEOF runs; None = every pair. Elsewhere the
     # firmware halts the module (dcd-vm.md §10).
     dir_sizeof_pairs: frozenset[tuple[int, int]] | None = None
+    # The program is built into the firmware as a C file (dcd_action, check_role_instanceof) rather
+    # than read at run time: the compiler's C form is that file (dcd-vm.md §10, "Loading").
+    loads_c_file: bool = False
 
     def implements(self, opcode: int) -> bool:
         return opcode >= 128 or opcode in self.opcodes
@@ -87,6 +90,7 @@ ORIGINAL = Target(
     description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
     # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (dcd-vm.md §5, §10)
     dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
+    loads_c_file=True,
 )
 
 TARGETS: dict[str, Target] = {target.name: target for target in (DEFAULT, ORIGINAL)}

@@ -49,6 +49,7 @@ describe("package.json", () => {
       "rdcd.server.pythonPath",
       "rdcd.server.args",
       "rdcd.inlayHints.fragmentSizes",
+      "rdcd.target",
       "rdcd.simulate.config",
       "rdcd.simulate.obstacle",
       "rdcd.simulate.duration",
