@@ -25,7 +25,7 @@ log = logging.getLogger("rdcd.server")
 SIMULATE = "rdcd.simulate"
 SHOW_BYTECODE = "rdcd.showBytecode"
 OPTION_FLAGS = {"config": "--config", "obstacle": "--obstacle", "duration": "--duration", "seed": "--seed",
-                "world": "--world", "packetLoss": "--packet-loss", "vm": "--vm"}
+                "world": "--world", "packetLoss": "--packet-loss", "vm": "--vm", "target": "--target"}
 
 
 def simulate_arguments(program: Path, options: dict[str, Any], report: Path, plot: Path) -> list[str]:
@@ -113,7 +113,8 @@ def _cancel_with_request(ls: Any, task: asyncio.Task | None) -> None:
 
 async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
     text = _document_text(ls, uri)
-    options = options if isinstance(options, dict) else {}
+    # the program as the editor compiles it (rdcd.target), run on the VM profile the options name
+    options = {"target": ls.settings.target, **(options if isinstance(options, dict) else {})}
     folder = Path(tempfile.mkdtemp(prefix="rdcd-simulate-"))
     program, report, plot = folder / "program.rdcd", folder / "report.json", folder / "plot.png"
     program.write_text(text, encoding="utf-8")

@@ -120,7 +120,7 @@ def test_cli_vm_defaults_and_refuses_unknown_profiles(tmp_path: Path) -> None:
 
 
 def test_the_server_passes_the_vm_profile_on() -> None:
-    options = {"world": "lattice", "vm": "original"}
+    options = {"world": "lattice", "vm": "original", "target": "default"}
     argv = simulate_arguments(Path("p.rdcd"), options, Path("r.json"), Path("p.png"))
-    assert argv[argv.index("--vm") + 1] == "original"
+    assert argv[argv.index("--vm") + 1] == "original" and argv[argv.index("--target") + 1] == "default"
     assert "--vm" not in simulate_arguments(Path("p.rdcd"), {}, Path("r.json"), Path("p.png"))
