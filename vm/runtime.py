@@ -86,7 +86,8 @@ class ModuleRuntime(ModuleNode):
         return {"sent": self.link.sent, "retransmissions": self.link.retransmissions,
                 "given_up": self.link.given_up, "outbox_overflows": self.link.overflows,
                 "duplicates": self.duplicates, "bad_packets": self.bad_packets,
-                "programs_run": self.programs_run, "runs": self.runs, "errors": len(self.errors)}
+                "programs_run": self.programs_run, "runs": self.runs, "errors": len(self.errors),
+                "handler_refires": self.handler_refires}
 
     def step(self) -> None:
         if self.halted:

@@ -147,6 +147,7 @@ def _flashes_with_an_obstacle_at_the_head(vm) -> tuple[int, int]:  # noqa: ANN00
     events = world.events[since:]
     detections = sum(1 for _, m, kind, _ in events if kind == "handler" and m == head)
     flashes = sum(1 for _, m, kind, d in events if kind == "command" and d["command"] == 128 and m != head)
+    assert world.runtimes[head].stats()["handler_refires"] == flashes // 3 - 1  # runs after the first
     return detections, flashes
 
 
