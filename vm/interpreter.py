@@ -170,7 +170,7 @@ def _connected_dir_sizeof(m: Machine, d: int, target: Target) -> int:
     return count.bit_count() if q.connected_dir_sizeof_popcount_of_count else count
 
 
-def _step(frame: Frame, m: Machine, target: Target) -> Result | None:  # noqa: C901 - one dispatch table
+def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None:  # noqa: C901 - one dispatch table
     at = frame.pc
     name, op, a = _fetch(frame, target)
     if frame.debug:
