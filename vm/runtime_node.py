@@ -77,7 +77,7 @@ class ModuleNode:
         self.event_log: list[tuple[float, str, dict[str, object]]] = []
         self.on_event: EventHook | None = None
         self.neighbour_roles = [0] * 8  # by virtual channel
-        self.store = Store()
+        self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
         self.link = Link(hal, self.rng, checksum=checksum, acknowledged=not target.quirks.no_acknowledgements)
         self.bad_packets = 0
         self.duplicates = 0
