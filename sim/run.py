@@ -47,6 +47,8 @@ def role_table(program: CompiledProgram) -> RoleTable:
 
 
 def simulate(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
+    if options.vm not in TARGETS:
+        raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
     boxes = parse_obstacle(options.obstacle)
     roles = role_table(program)
     start = time.perf_counter()

@@ -124,3 +124,9 @@ def test_the_server_passes_the_vm_profile_on() -> None:
     argv = simulate_arguments(Path("p.rdcd"), options, Path("r.json"), Path("p.png"))
     assert argv[argv.index("--vm") + 1] == "original" and argv[argv.index("--target") + 1] == "default"
     assert "--vm" not in simulate_arguments(Path("p.rdcd"), {}, Path("r.json"), Path("p.png"))
+
+
+def test_simulate_refuses_an_unknown_profile() -> None:
+    with pytest.raises(ValueError, match="unknown VM profile 'firmware'"):
+        simulate(program("snake_wave.rdcd", "default"), load_config("snake5"),
+                 Options(world="lattice", duration=1.0, vm="firmware"))
