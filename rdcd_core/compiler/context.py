@@ -18,7 +18,6 @@ class Context:
     model: Model
     table: RoleTable
     role: str  # the concrete role the code is specialised for
-    strict: bool = False
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     mixins: list[str] = field(default_factory=list)  # active assumeRole mixins, innermost last
     inlining: list[str] = field(default_factory=list)

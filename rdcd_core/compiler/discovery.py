@@ -116,10 +116,18 @@ def signature(expr: ast.Node, ctx: Context) -> tuple:
 
 def common_prefix(ctxs: list[Context]) -> int:
     lists = [invariants(ctx) for ctx in ctxs]
+    paths = [ALL_STATES] * len(ctxs)  # each test's code is made for the states that reach it
     count = 0
     for index in range(min(len(items) for items in lists)):
         decls = {id(ctx.model.roles[ctx.role].invariants[index].decl) for ctx in ctxs}
-        sigs = {signature(items[index], ctx) for items, ctx in zip(lists, ctxs, strict=True)}
+        sigs = set()
+        for position, (items, ctx) in enumerate(zip(lists, ctxs, strict=True)):
+            saved, ctx.states = ctx.states, paths[position]
+            sigs.add(signature(items[index], ctx))
+            ctx.states = saved
+            mask = state_mask(items[index], ctx)
+            if mask is not None:
+                paths[position] &= mask
         if len(decls) != 1 or len(sigs) != 1:
             break
         count += 1
