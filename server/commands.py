@@ -27,7 +27,8 @@ log = logging.getLogger("rdcd.server")
 SIMULATE = "rdcd.simulate"
 SHOW_BYTECODE = "rdcd.showBytecode"
 OPTION_FLAGS = {"config": "--config", "obstacle": "--obstacle", "duration": "--duration", "seed": "--seed",
-                "world": "--world", "packetLoss": "--packet-loss"}
+                "world": "--world", "packetLoss": "--packet-loss",
+                "vm": "--vm", "target": "--target"}
 MAX_OPTION_LENGTH = 4096
 
 
@@ -144,6 +145,8 @@ def _cancel_with_request(ls: Any, task: asyncio.Task | None) -> None:
 async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
     text = _document_text(ls, uri)
     values = checked_options(options)
+    # the program as the editor compiles it (rdcd.target), run on the VM profile the options name
+    values.setdefault("target", ls.settings.target)
     shown = display_path(uri)
     first = _first_error_in_editor(ls, uri, text, shown)
     if first is not None:  # no child needed to say so, and no temporary path in the message
@@ -277,7 +280,7 @@ def bytecode_listing(ls: Any, uri: Any) -> str:
 
     text = _document_text(ls, uri)
     document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
-    analysis = document.current() if document is not None else analyze(text)
+    analysis = document.current() if document is not None else analyze(text, target=ls.settings.target)
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     program = analysis.compiled() if analysis.model is not None and not errors else None
     if program is None:

@@ -3,8 +3,10 @@ configuration.
 
 Accepted shapes: ``{"rdcd": {"inlayHints": {"fragmentSizes": false}}}``,
 ``{"inlayHints": {"fragmentSizes": false}}`` and the flat ``{"rdcd.inlayHints.fragmentSizes": false}``;
-the same for ``diagnostics.debounceMs``. A value that cannot be used is reported and the setting
-keeps its value: an infinite or NaN debounce would mean a server that never publishes.
+the same for ``diagnostics.debounceMs`` and ``target`` (``"default"`` or ``"original"``: what
+programs are checked and compiled for, ``rdcd check --target``). A value that cannot be used is
+reported and the setting keeps its value: an infinite or NaN debounce would mean a server that
+never publishes.
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ def parse_debounce(value: Any, source: str) -> float:
 class Settings:
     debounce_ms: float = DEFAULT_DEBOUNCE_MS
     fragment_size_hints: bool = True
+    target: str = "default"
 
     @classmethod
     def from_environment(cls, environ: Mapping[str, str]) -> tuple[Settings, list[str]]:
@@ -68,6 +71,16 @@ class Settings:
             self.fragment_size_hints = value
         elif value is not None:
             problems.append(f"rdcd.inlayHints.fragmentSizes must be true or false, not {_show(value)}")
+        value = _lookup(options, "target")
+        if isinstance(value, str):
+            from rdcd_core.compiler import TARGETS  # the server reaches the VM only through rdcd_core
+
+            if value in TARGETS:
+                self.target = value
+            else:
+                problems.append(f"rdcd.target must be one of {', '.join(TARGETS)}, not {_show(value)}")
+        elif value is not None:
+            problems.append(f"rdcd.target must be a string, not {_show(value)}")
         value = _lookup(options, "diagnostics.debounceMs")
         if value is not None:
             try:

@@ -60,6 +60,7 @@ def register(server: RdcdServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: RdcdServer, params: types.InitializeParams) -> None:
         ls.settings.update(params.initialization_options)
+        ls.documents.retarget(ls.settings.target)
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: RdcdServer, params: types.DidOpenTextDocumentParams) -> None:
@@ -92,6 +93,8 @@ def register(server: RdcdServer) -> None:
     def did_change_configuration(ls: RdcdServer, params: types.DidChangeConfigurationParams) -> None:
         before = ls.settings.fragment_size_hints
         ls.settings.update(params.settings)
+        for document in ls.documents.retarget(ls.settings.target):  # check them for the new target
+            ls.changed(document)
         if before != ls.settings.fragment_size_hints:
             try:
                 ls.workspace_inlay_hint_refresh(None)

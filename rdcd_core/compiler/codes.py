@@ -31,14 +31,17 @@ NOT_CONSTANT = define_code(
     "E604", _E, "the target needs a compile-time constant here",
     "role A { self.x() > 0; startup s() { self.setLed(self.y()); } }\ndeployment { A }")
 EXT_REFUSED = define_code(
-    "E605", _E, "code needs an extension instruction, refused by --strict-isa",
-    "role A { self.x() + self.y() > 0; }\ndeployment { A }")
+    "E605", _E, "code needs an instruction the target does not run (e.g. --target original)",
+    "// rdcd check --target original\nrole A { self.x() + self.y() > 0; }\ndeployment { A }")
 UNSUPPORTED = define_code(
     "E606", _E, "construct not supported by the DCD-VM code generator",
     "role A { self.x() > 0; startup s() { self.s(); } }\ndeployment { A }")
 VERIFIER_REJECTED = define_code(
     "E607", _E, "internal: a compiled fragment was rejected by the verifier",
     "role A { self.x() > 0; }\ndeployment { A }")
+TARGET_LIMIT = define_code(
+    "E608", _E, "a run of a fragment exceeds the target's operand stack or instructions per run",
+    "role A { self.x() > " + "(self.y() + " * 16 + "self.y()" + ")" * 16 + "; }\ndeployment { A }")
 OVER_BUDGET = define_code(
     "W601", _W, "a fragment exceeds the packet budget and could not be split",
     f"role A {{ self.x() > 0;\n  startup s() {{ if (connected_role(UP, A) > 0) {{ {_leds(19)} }} }} }}\n"
@@ -52,3 +55,9 @@ TOO_MANY_PROGRAMS = define_code(
 MIXIN_METHOD_IGNORED = define_code(
     "W603", _W, "a mixin's startup or behaviour method is not compiled",
     "role W { self.y() > 0; }\nrole M modifies W { startup s() { self.sleep(); } }\ndeployment { W }")
+HANDLER_REFIRES = define_code(
+    "W604", _W, "a handler that does not first disable its event runs again on every step while its "
+                "sensor sees an object (original target)",
+    "// rdcd check --target original\n"
+    "role A { self.x() > 0;\n  startup s() { self.handleEvent(EVENT_PROXIMITY_0, { self.setLed(1); }); } }\n"
+    "deployment { A }")

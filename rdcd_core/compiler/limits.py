@@ -31,7 +31,7 @@ def command_limit(model: Model, commands: dict[str, int]) -> list[diag.Diagnosti
     return _unique(found)
 
 
-def program_limit(model: Model) -> list[diag.Diagnostic]:
+def program_limit(model: Model, slots: int = PROGRAM_SLOTS) -> list[diag.Diagnostic]:
     """Stored programs on a module of each role: commands, behaviours, handlers."""
     found: list[diag.Diagnostic] = []
     for role in model.deployment:
@@ -47,11 +47,11 @@ def program_limit(model: Model) -> list[diag.Diagnostic]:
                     # one slot per event (a new handler replaces the old): compare without spans
                     events.add(ast.strip_spans(node.args[0]))
         count += len(events)
-        if count > PROGRAM_SLOTS and symbol.decl is not None:
+        if count > slots and symbol.decl is not None:
             found.append(diag.make(
                 codes.TOO_MANY_PROGRAMS, symbol.decl.name.span,
                 f"a module playing {role} stores {count} programs (commands, behaviours, "
-                f"handlers); the DCD-VM has {PROGRAM_SLOTS} slots"))
+                f"handlers); the DCD-VM has {slots} slots"))
     return found
 
 

@@ -4,10 +4,11 @@
 from __future__ import annotations
 
 from rdcd_core.compiler import codes
+from rdcd_core.compiler.compare import is_nonnegative
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
 from rdcd_core.compiler.fold import fold
-from rdcd_core.compiler.ir import Body, Item, Label
+from rdcd_core.compiler.ir import Body, Ins, Item, Label
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.builder import MAX_HEIGHT
@@ -138,9 +139,18 @@ def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(backwards)
+    if is_nonnegative(speed, ctx):  # never below 0: not positive means stop
+        emit(out, "EVAL_COMMAND", STOP, 0, span=span)
+        out.append(end)
+        return
     cjump(ast.Binary("<", speed, zero, speed.span, speed.span), stop, False, ctx, out)
-    value(speed, ctx, out)
-    emit(out, "NEGATE", span=span)
+    inner = ast.unparen(speed)
+    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE"):
+        value(inner.operand, ctx, out)  # |-e| = e where -e < 0
+    else:
+        value(speed, ctx, out)
+        ctx.need("NEGATE", speed.span, "a turning speed known only at run time needs")
+        emit(out, "NEGATE", span=span)
     emit(out, "PUSH", ROTATE_CCW, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
@@ -179,7 +189,31 @@ def _handle_event(args: tuple, ctx: Context, out: list[Item], span: object) -> N
     saved, ctx.mixins = ctx.mixins, list(ctx.mixins)
     body = body_of(args[1], ctx, "END_TERMINATE")
     ctx.mixins = saved
+    _warn_refiring(body, event, ctx, span)
     emit(out, "HANDLE_EVENT", event, body, span=span)
+
+
+def _warn_refiring(body: Body, event: int, ctx: Context, span: object) -> None:
+    """On a target that runs a handler again on every step while its sensor sees an object, a
+    handler should first disable (or clear) its own event."""
+    if not ctx.target.quirks.handler_refires_with_zero:
+        return
+    first = next((item for item in body.code if isinstance(item, Ins)), None)
+    if first is not None and first.op in ("DISABLE_EVENT", "CLEAR_EVENT") and first.args == (event,):
+        return
+    ctx.report(codes.HANDLER_REFIRES, span,  # type: ignore[arg-type]
+               f"in role {ctx.role}: this handler does not first disable EVENT_PROXIMITY_{event}; on the "
+               f"{ctx.target.name} target it runs again on every step while the sensor sees an object; "
+               f"begin it with self.disableEvent(EVENT_PROXIMITY_{event}) and enable the event again later")
+
+
+def _enable_event(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    event = const_arg(args[0], ctx, "the event") if args else None
+    if event is None:
+        return
+    if ctx.target.quirks.enable_event_toggles:  # ENABLE_EVENT flips the flag: disable it first
+        emit(out, "DISABLE_EVENT", event, span=span)
+    emit(out, "ENABLE_EVENT", event, span=span)
 
 
 def _assume_role(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
@@ -212,4 +246,5 @@ PRIMITIVE_CODE = {
     "handleEvent": _handle_event,
     "assumeRole": _assume_role,
     **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},
+    "enableEvent": _enable_event,
 }

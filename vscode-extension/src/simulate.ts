@@ -31,6 +31,7 @@ export class SimulationView implements vscode.Disposable {
       seed: settings.get("seed"),
       world: settings.get("world"),
       packetLoss: settings.get("packetLoss"),
+      vm: settings.get("vm"),
     });
     const fileName = path.basename(document.uri.fsPath || document.uri.path);
     let raw: unknown;

@@ -18,6 +18,12 @@ describe("buildSimulateArgs", () => {
     assert.equal("world" in buildSimulateArgs("u", { world: "" })[1], false);
   });
 
+  it("adds the VM profile only when one is set", () => {
+    assert.equal(buildSimulateArgs("u", { vm: "original" })[1].vm, "original");
+    assert.equal("vm" in buildSimulateArgs("u", { vm: "" })[1], false);
+    assert.equal("vm" in buildSimulateArgs("u", { vm: 3 })[1], false);
+  });
+
   it("turns a distance into a wall and null into none", () => {
     assert.equal(buildSimulateArgs("u", { obstacle: 1.5 })[1].obstacle, "wall:1.5");
     assert.equal(buildSimulateArgs("u", { obstacle: null })[1].obstacle, "none");
