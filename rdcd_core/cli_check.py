@@ -14,6 +14,7 @@ from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES, MAX_
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
 from rdcd_core.inputs import InputError, collect_files, read_source
+from rdcd_core.source import visible
 from vm.isa.targets import TARGETS
 
 
@@ -97,7 +98,7 @@ def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
     label = diagnostic.severity.label
     lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {_clip(diagnostic.message)}"]
     index = result.line_index
-    source = index.line_text(line - 1)
+    source = visible(index.line_text(line - 1))  # a form feed or U+2028 would move the caret
     if source.strip():
         width = (end_column - column) if end_line == line else len(source) - column + 1
         source, at, width = _excerpt(source, column - 1, width)

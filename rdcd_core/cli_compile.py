@@ -9,9 +9,7 @@ Exit status: 0 compiled, 1 the program has errors, 2 usage or I/O error.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
-from pathlib import Path
 
 from rdcd_core.cli_check import add_target_argument, check_packet_budget, chosen_target, render_text
 from rdcd_core.compiler import CompiledProgram, add_source_lines, compile_model
@@ -19,7 +17,8 @@ from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES
 from rdcd_core.compiler.render import render_c, render_json, render_listing
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
-from rdcd_core.inputs import InputError, read_source
+from rdcd_core.inputs import InputError, describe_os_error, read_source
+from rdcd_core.outputs import check_outputs, write_atomically
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -32,14 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_target_argument(parser)
     parser.add_argument("--strict-isa", action="store_true",
                         help="alias of --target original (kept for compatibility)")
-    parser.add_argument("-o", "--output", metavar="OUT", help="write the output here, not to stdout")
-
-
-def _same_file(a: str, b: str) -> bool:
-    try:
-        return os.path.samefile(a, b)
-    except (OSError, ValueError):  # the output does not exist yet (or cannot be looked at)
-        return False
+    parser.add_argument("-o", "--output", metavar="OUT",
+                        help="write the output to this file (atomically; never over the program), "
+                             "not to stdout")
 
 
 def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
@@ -66,12 +60,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         check_packet_budget("--max-packet", args.max_packet)
         text = read_source(args.file)
+        if args.output is not None:  # before compiling: `-o ''` or `-o PROGRAM` is a slip, said at once
+            check_outputs([("-o", args.output)], [("the program", args.file)])
     except InputError as error:
         print(f"rdcd compile: {error}", file=sys.stderr)
-        return 2
-    if args.output and _same_file(args.file, args.output):
-        print(f"rdcd compile: -o {args.output} is the program itself; refusing to overwrite it",
-              file=sys.stderr)
         return 2
     try:
         result, program, diagnostics = compile_text(text, packet_budget=args.max_packet,
@@ -86,11 +78,11 @@ def run(args: argparse.Namespace) -> int:
         return 1
     output = {"json": lambda: render_json(program) + "\n", "c": lambda: render_c(program, args.file),
               "listing": lambda: render_listing(program)}[args.format]()
-    if args.output:
+    if args.output is not None:
         try:
-            Path(args.output).write_text(output, encoding="utf-8")
+            write_atomically(args.output, output)
         except OSError as error:
-            print(f"rdcd compile: {args.output}: {error.strerror or error}", file=sys.stderr)
+            print(f"rdcd compile: cannot write {args.output}: {describe_os_error(error)}", file=sys.stderr)
             return 2
     else:
         sys.stdout.write(output)

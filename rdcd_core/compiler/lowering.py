@@ -12,9 +12,9 @@ counts that can occur in the reachable states; then it is compiled as a test of 
 from __future__ import annotations
 
 from rdcd_core.compiler.context import Context
-from rdcd_core.compiler.fold import COMPARE
 from rdcd_core.compiler.geometry import DIRECTION_NAMES, LOCAL_STATES, facing
 from rdcd_core.compiler.ir import Ins, Item, Label
+from rdcd_core.operators import BINARY
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -50,7 +50,8 @@ def dir_sizeof_runs(ctx: Context, direction: int, span: Span) -> bool:
         if not ctx.target.dir_sizeof_runs(axis, direction):
             ctx.cannot(span, f"the connectors facing {DIRECTION_NAMES.get(direction, direction)} of a "
                              f"module with axis {AXIS_NAMES.get(axis, axis)} cannot be counted: the "
-                             f"{ctx.target.name} target's CONNECTED_DIR_SIZEOF halts the module there")
+                             f"{ctx.target.name} target's CONNECTED_DIR_SIZEOF halts the module there; "
+                             "test the module's axis before (self.center_position == ...)")
             return False
     return True
 
@@ -76,8 +77,8 @@ def dir_count_jump(direction: int, op: str, k: int, target: Label, when: bool, c
     if not dir_sizeof_runs(ctx, direction, span):
         return
     possible = counts(ctx, direction)
-    true = {reading(ctx, n) for n in possible if COMPARE[op](n, k)}
-    false = {reading(ctx, n) for n in possible if not COMPARE[op](n, k)}
+    true = {reading(ctx, n) for n in possible if BINARY[op].apply(n, k)}
+    false = {reading(ctx, n) for n in possible if not BINARY[op].apply(n, k)}
     if true & false:
         name = DIRECTION_NAMES.get(direction, direction)
         ctx.cannot(span, f"sizeof(self.connected({name})) {op} {k} cannot be tested: the "

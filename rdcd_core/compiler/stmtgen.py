@@ -11,13 +11,14 @@ from rdcd_core.compiler.fold import fold
 from rdcd_core.compiler.ir import Body, Ins, Item, Label
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.syntax import ast
+from rdcd_core.syntax.builder import MAX_HEIGHT
 from vm.isa.opcodes import ROTATE_CCW, ROTATE_CW, ROTATE_DEGREES, ROTATE_TO, STOP, USER_COMMAND_BASE
 
 QUERIES = {"center_position", "total_connected", "connected", "x", "y", "z"}
 EVENT_OPS = {"disableEvent": "DISABLE_EVENT", "enableEvent": "ENABLE_EVENT", "clearEvent": "CLEAR_EVENT"}
 # Inlining nests a method's body inside its caller's; code generation recurses over the nesting,
 # so the bodies inlined into one another may add at most as many levels as one parsed tree has.
-MAX_INLINED_NESTING = 100
+MAX_INLINED_NESTING = MAX_HEIGHT
 
 
 def statements(stmts: tuple[ast.Stmt, ...] | list[ast.Stmt], ctx: Context, out: list[Item]) -> None:
@@ -79,7 +80,9 @@ def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
     elif ctx.inlined_nesting + nesting(method.decl.body, ctx) > MAX_INLINED_NESTING:
         ctx.report(codes.UNSUPPORTED, span,
                    f"plain method calls nest too deeply to inline ({len(ctx.inlining) + 1} calls "
-                   f"deep: {_chain([*ctx.inlining, name])}); call fewer methods inside one another")
+                   f"deep: {_chain([*ctx.inlining, name])}: more than {MAX_INLINED_NESTING} levels, "
+                   "each operator of 'a + b + c' and 'else if' counting); call fewer methods inside "
+                   "one another")
     else:
         saved = ctx.inlined_nesting
         ctx.inlined_nesting += nesting(method.decl.body, ctx)

@@ -71,6 +71,17 @@ export function buildSimulateArgs(uri: string, settings: SimulateSettings): [str
   return [uri, simulateOptions(settings)];
 }
 
+/** JSON-RPC's RequestCancelled and LSP's ServerCancelled. */
+const CANCELLED_CODES: readonly number[] = [-32800, -32802];
+
+/**
+ * Whether a failed rdcd.simulate request was cancelled (by the user or the server). Decided by the
+ * error code: the message of a real failure names the user's file, and a file may be called cancel.rdcd.
+ */
+export function isCancelledRequest(error: unknown): boolean {
+  return isRecord(error) && typeof error["code"] === "number" && CANCELLED_CODES.includes(error["code"]);
+}
+
 export function isRecord(value: unknown): value is Record<string, unknown> {
   return typeof value === "object" && value !== null && !Array.isArray(value);
 }
