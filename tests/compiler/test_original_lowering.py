@@ -221,3 +221,17 @@ def test_run_time_speeds_turn_the_same_without_negate():
             _outcome(default, want, run_default)
             _outcome(original, got, lambda c, m: run(c, m, ORIGINAL))
             assert got.commands == want.commands and want.commands, (speed, connected)
+
+
+def test_startup_code_in_a_continuation_fragment_runs_after_its_sleep():
+    condition = ("((self.x() + -1 != -1) || (self.x() + -1 != 4)) || "
+                 "((self.x() + -1 != 4) || (self.x() + -1 != 4))")
+    text = (f"role A {{ self.y() > -9;\n  startup s() {{ if ({condition}) self.setLed(1); "
+            "else self.setLed(2); } }\ndeployment { A }\n")
+    model = check_text(text).model
+    default, original = compile_model(model), compile_model(model, target="original")
+    assert len(original.fragments) == 2  # the startup code waits for the role in a fragment of its own
+    for position in POSITIONS:
+        want = _outcome(default, Module(1, 1, position), run_default)
+        got = _outcome(original, Module(1, 1, position), lambda c, m: run(c, m, ORIGINAL))
+        assert got == want == ((1,), (1,)), position
