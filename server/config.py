@@ -72,15 +72,13 @@ class Settings:
         elif value is not None:
             problems.append(f"rdcd.inlayHints.fragmentSizes must be true or false, not {_show(value)}")
         value = _lookup(options, "target")
-        if isinstance(value, str):
+        if value is not None:
             from rdcd_core.compiler import TARGETS  # the server reaches the VM only through rdcd_core
 
-            if value in TARGETS:
+            if isinstance(value, str) and value in TARGETS:
                 self.target = value
             else:
                 problems.append(f"rdcd.target must be one of {', '.join(TARGETS)}, not {_show(value)}")
-        elif value is not None:
-            problems.append(f"rdcd.target must be a string, not {_show(value)}")
         value = _lookup(options, "diagnostics.debounceMs")
         if value is not None:
             try:

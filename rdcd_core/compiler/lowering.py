@@ -50,7 +50,8 @@ def dir_sizeof_runs(ctx: Context, direction: int, span: Span) -> bool:
         if not ctx.target.dir_sizeof_runs(axis, direction):
             ctx.cannot(span, f"the connectors facing {DIRECTION_NAMES.get(direction, direction)} of a "
                              f"module with axis {AXIS_NAMES.get(axis, axis)} cannot be counted: the "
-                             f"{ctx.target.name} target's CONNECTED_DIR_SIZEOF halts the module there")
+                             f"{ctx.target.name} target's CONNECTED_DIR_SIZEOF halts the module there; "
+                             "test the module's axis before (self.center_position == ...)")
             return False
     return True
 

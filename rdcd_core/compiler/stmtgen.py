@@ -131,11 +131,15 @@ def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object)
 
 def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object) -> None:
     """A speed known only at run time: APPLY the direction's command to |speed| (0 stops)."""
+    forward, backward = ROTATE_CW, ROTATE_CCW
+    inner = ast.unparen(speed)
+    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE"):
+        speed, forward, backward = inner.operand, ROTATE_CCW, ROTATE_CW  # -e: e, the other way round
     zero = ast.IntLit(0, speed.span)
     backwards, stop, end = Label("ccw"), Label("stop"), Label("end")
     cjump(ast.Binary(">", speed, zero, speed.span, speed.span), backwards, False, ctx, out)
     value(speed, ctx, out)
-    emit(out, "PUSH", ROTATE_CW, span=span)
+    emit(out, "PUSH", forward, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(backwards)
@@ -144,14 +148,10 @@ def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object)
         out.append(end)
         return
     cjump(ast.Binary("<", speed, zero, speed.span, speed.span), stop, False, ctx, out)
-    inner = ast.unparen(speed)
-    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE"):
-        value(inner.operand, ctx, out)  # |-e| = e where -e < 0
-    else:
-        value(speed, ctx, out)
-        ctx.need("NEGATE", speed.span, "a turning speed known only at run time needs")
-        emit(out, "NEGATE", span=span)
-    emit(out, "PUSH", ROTATE_CCW, span=span)
+    value(speed, ctx, out)
+    ctx.need("NEGATE", speed.span, "a turning speed below 0 known only at run time needs")
+    emit(out, "NEGATE", span=span)
+    emit(out, "PUSH", backward, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(stop)

@@ -59,10 +59,21 @@ class Module:
         return lambda *args: 0
 
 
+SUSPENDS = ("sleep", "sleep_rotations")  # the run goes on after the wait, with its frame
+
+
 def run(code: bytes, module: Module, target: Target) -> str:
-    """Runs ``code`` once on ``module``; returns how the run ended ("terminate", "migrate", ...,
-    or "halt: why")."""
+    """Runs ``code`` on ``module`` until it ends (resuming after SLEEP); returns how it ended
+    ("terminate", "migrate", ..., or "halt: why")."""
     frame = Frame(code)
+    while True:
+        ended = _run_once(frame, module, target)
+        if ended not in SUSPENDS:
+            return ended
+
+
+def _run_once(frame: Frame, module: Module, target: Target) -> str:
+    code = frame.code
     for _ in range(target.max_steps_per_run):
         if not 0 <= frame.pc < len(code):
             return "halt: control left the program"
@@ -86,8 +97,13 @@ def run(code: bytes, module: Module, target: Target) -> str:
 
 
 def run_default(code: bytes, module: Module) -> str:
-    result = interpreter.run(Frame(code), module)
-    return result.outcome.value if result.outcome is not Outcome.ERROR else f"halt: {result.message}"
+    frame = Frame(code)
+    while True:
+        result = interpreter.run(frame, module)
+        if result.outcome is Outcome.ERROR:
+            return f"halt: {result.message}"
+        if result.outcome.value not in SUSPENDS:
+            return result.outcome.value
 
 
 __all__ = ["DEFAULT", "ORIGINAL", "Module", "run", "run_default"]

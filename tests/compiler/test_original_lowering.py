@@ -204,3 +204,34 @@ def test_handlers_that_do_not_disable_their_event_first_are_warned_about():
     assert "EVENT_PROXIMITY_3" in warned[0] and "EVENT_PROXIMITY_4" in warned[1]
     assert all("in role A" in d.message for d in result.diagnostics if d.code == "W604")
     assert not [d for d in check_text(text).diagnostics if d.code == "W604"]
+
+
+def test_run_time_speeds_turn_the_same_without_negate():
+    for speed in ("sizeof(self.total_connected())", "-sizeof(self.total_connected())",
+                  "-(sizeof(self.total_connected()))"):
+        text = (f"role A {{ self.y() > -9;\n  startup s() {{ self.turnContinuously({speed}); }} }}\n"
+                "deployment { A }\n")
+        model = check_text(text).model
+        default, original = compile_model(model), compile_model(model, target="original")
+        assert not original.has_errors, (speed, [d.message for d in original.diagnostics])
+        assert "NEGATE" not in _ops(original)
+        _original_code_is_clean(original)
+        for connected in (0b0, 0b1, 0b11, 0b111, 0b10110110):
+            want, got = Module(1, connected), Module(1, connected)
+            _outcome(default, want, run_default)
+            _outcome(original, got, lambda c, m: run(c, m, ORIGINAL))
+            assert got.commands == want.commands and want.commands, (speed, connected)
+
+
+def test_startup_code_in_a_continuation_fragment_runs_after_its_sleep():
+    condition = ("((self.x() + -1 != -1) || (self.x() + -1 != 4)) || "
+                 "((self.x() + -1 != 4) || (self.x() + -1 != 4))")
+    text = (f"role A {{ self.y() > -9;\n  startup s() {{ if ({condition}) self.setLed(1); "
+            "else self.setLed(2); } }\ndeployment { A }\n")
+    model = check_text(text).model
+    default, original = compile_model(model), compile_model(model, target="original")
+    assert len(original.fragments) == 2  # the startup code waits for the role in a fragment of its own
+    for position in POSITIONS:
+        want = _outcome(default, Module(1, 1, position), run_default)
+        got = _outcome(original, Module(1, 1, position), lambda c, m: run(c, m, ORIGINAL))
+        assert got == want == ((1,), (1,)), position
