@@ -35,7 +35,7 @@ def local_cluster(workers: int) -> Any:
     redirects file descriptors process-wide, so threads would not help."""
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                         silence_logs=logging.ERROR)
 
 

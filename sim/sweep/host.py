@@ -21,7 +21,8 @@ import time
 from pathlib import Path
 from typing import IO, Any
 
-GRACE_S = 10.0  # beyond the run's own time limit (which the child enforces), the parent kills it
+GRACE_S = 5.0  # beyond the run's own time limit (which the child enforces), the parent kills it
+START_S = 300.0  # a new host imports PyBullet and the simulator: slow on a loaded machine
 _HEADER = struct.Struct(">Q")
 ROOT = str(Path(__file__).resolve().parent.parent.parent)
 
@@ -47,20 +48,29 @@ class Host:
         self.process: subprocess.Popen[bytes] | None = None
         self.log = tempfile.TemporaryFile("a+b")  # noqa: SIM115 - the child's stderr, for crash messages
 
-    def _start(self) -> subprocess.Popen[bytes]:
+    def _start(self) -> bool:
+        """Start a child and wait until it has imported the simulator (it says "ready")."""
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(p for p in (ROOT, env.get("PYTHONPATH")) if p)
-        return subprocess.Popen([sys.executable, "-m", "sim.sweep.host"], stdin=subprocess.PIPE,
-                                stdout=subprocess.PIPE, stderr=self.log, env=env, close_fds=True)
+        self.process = subprocess.Popen([sys.executable, "-m", "sim.sweep.host"], stdin=subprocess.PIPE,
+                                        stdout=subprocess.PIPE, stderr=self.log, env=env, close_fds=True)
+        assert self.process.stdout
+        ready, _, _ = select.select([self.process.stdout], [], [], START_S)
+        if ready and _receive(self.process.stdout) == "ready":
+            return True
+        self.process.kill()  # _crash_message reads how it ended
+        self.process.wait()
+        return False
 
     def run(self, task: dict[str, Any]) -> dict[str, Any]:
         from sim.sweep.execute import failed_row
 
-        if self.process is None or self.process.poll() is not None:
-            self.process = self._start()
         self.log.seek(0)
         self.log.truncate()
+        if (self.process is None or self.process.poll() is not None) and not self._start():
+            return failed_row(task, self._crash_message("the process that runs simulations did not start"))
         process = self.process
+        assert process is not None
         assert process.stdin and process.stdout
         try:
             _send(process.stdin, task)
@@ -75,7 +85,7 @@ class Host:
         row = _receive(process.stdout)
         return row if row is not None else failed_row(task, self._crash_message())
 
-    def _crash_message(self) -> str:
+    def _crash_message(self, what: str = "the run crashed its process") -> str:
         process = self.process
         code = process.wait() if process else None
         self.process = None
@@ -85,7 +95,7 @@ class Host:
         how = (f"killed by {signal.Signals(-code).name}" if code is not None and code < 0 and
                -code in signal.valid_signals() else f"exit status {code}")
         last = f": {lines[-1][:300]}" if lines else ""
-        return f"the run crashed its process ({how}){last}"
+        return f"{what} ({how}){last}"
 
     def stop(self) -> None:
         if self.process is not None:
@@ -123,8 +133,11 @@ def main() -> None:
     os.dup2(2, 1)  # print() and C output of libraries go to the log, not into the replies
     sys.stdout = sys.stderr
     threading.Thread(target=_orphan_watch, args=(os.getppid(),), daemon=True).start()
+    from sim.quiet import import_pybullet
     from sim.sweep.execute import run_task
 
+    import_pybullet()
+    _send(replies, "ready")
     while (task := _receive(requests)) is not None:
         _send(replies, run_task(task))
 
