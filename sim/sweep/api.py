@@ -41,6 +41,8 @@ class Results:
     lost: int = 0
     interrupted: bool = False
     outputs: list[Path] = field(default_factory=list)
+    run_s: float = 0.0  # wall seconds running the missing runs
+    outputs_s: float = 0.0  # wall seconds writing tables, plots and index.html
 
     @property
     def out(self) -> Path:
@@ -120,6 +122,7 @@ def run(experiment: Experiment, *, out: str | Path | None = None, workers: int |
             write_runs_csv(plan)
             last_csv[0] = time.monotonic()
 
+    start = time.perf_counter()
     try:
         if pending:
             if bar:
@@ -128,9 +131,11 @@ def run(experiment: Experiment, *, out: str | Path | None = None, workers: int |
     except KeyboardInterrupt:
         results.interrupted = True
     finally:
+        results.run_s = time.perf_counter() - start
         if bar and pending:
             bar.show(final=True)
         results.outputs = write_outputs(plan, command or f"rdcd sweep {shown(experiment.path)}")
+        results.outputs_s = time.perf_counter() - start - results.run_s
     return results
 
 

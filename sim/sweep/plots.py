@@ -55,13 +55,17 @@ def write_plots(plan: Plan) -> list[Path]:
 
 def _loss_plot(fig: Any, by_loss: dict[str, dict[float, list[int]]], path: Path) -> Path:
     ax = fig.add_subplot()
-    for config, points in by_loss.items():
+    everything = sorted({x for points in by_loss.values() for x in points})
+    spacing = min((b - a for a, b in zip(everything, everything[1:], strict=False)), default=0.1)
+    for i, (config, points) in enumerate(by_loss.items()):
         losses = sorted(points)
+        # Configurations side by side around each loss, so that equal rates do not hide each other.
+        shift = (i - (len(by_loss) - 1) / 2) * spacing * 0.06
+        xs = [x + shift for x in losses]
         rates = [points[x][0] / points[x][1] for x in losses]
         bands = [wilson(*points[x]) for x in losses]
-        line, = ax.plot(losses, rates, marker="o", label=config)
-        ax.fill_between(losses, [b[0] for b in bands], [b[1] for b in bands], color=line.get_color(),
-                        alpha=0.15)
+        line, = ax.plot(xs, rates, marker="osD^v<>"[i % 7], label=config)
+        ax.fill_between(xs, [b[0] for b in bands], [b[1] for b in bands], color=line.get_color(), alpha=0.12)
     ax.set_xlabel("packet loss")
     ax.set_ylabel("success rate (band: Wilson 95 %)")
     ax.set_ylim(-0.02, 1.02)
@@ -96,8 +100,11 @@ def _distributions(fig: Any, measures: dict[str, dict[str, list[float]]], path: 
     titles = {"heading_change_deg": "heading change (°)", "distance_m": "distance travelled (m)"}
     for i, name in enumerate(titles):
         ax = fig.add_subplot(1, 2, i + 1)
+        every = [v for values in measures.get(name, {}).values() for v in values]
+        low, high = (min(every), max(every)) if every else (0.0, 1.0)
+        edges = [low + (high - low) * k / 30 for k in range(31)] if high > low else 10  # shared bins
         for config, values in measures.get(name, {}).items():
-            ax.hist(values, bins=20, alpha=0.5, label=config)
+            ax.hist(values, bins=edges, alpha=0.5, label=config)
         ax.set_xlabel(titles[name])
         ax.set_ylabel("runs")
         if measures.get(name):
