@@ -6,6 +6,8 @@ window of tasks is ever in flight, so memory does not grow with the size of the 
 
 from __future__ import annotations
 
+import hashlib
+import json
 import logging
 import os
 import uuid
@@ -39,6 +41,15 @@ def local_cluster(workers: int) -> Any:
                         silence_logs=logging.ERROR)
 
 
+def _shared(client: Any, shared: dict[str, Any], value: Any) -> Any:
+    """A future of ``value`` on the cluster, scattered the first time it is seen: tasks then carry
+    a few hundred bytes instead of the program's text and the configuration each."""
+    digest = hashlib.sha256(json.dumps(value, sort_keys=True).encode("utf-8")).hexdigest()
+    if digest not in shared:
+        shared[digest] = client.scatter(value, broadcast=True, hash=False)
+    return shared[digest]
+
+
 def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
              warn: Callable[[str], None]) -> int:
     """Run the tasks on the client's cluster; returns how many were lost to the cluster itself
@@ -49,6 +60,7 @@ def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
     from sim.sweep.host import run_hosted
 
     window = 2 * max(1, sum(client.nthreads().values()))
+    shared: dict[str, Any] = {}  # the program and configurations, sent to the workers once
     inflight: dict[Any, dict[str, Any]] = {}
     keys: set[str] = set()
     completed = as_completed()
@@ -58,7 +70,10 @@ def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
         for task in tasks:
             if task["key"] in keys:  # the grid names the same run twice: it runs once
                 continue
-            future = client.submit(run_hosted, task, key=f"rdcd-run-{task['key']}-{uuid.uuid4().hex[:8]}")
+            slim = {k: v for k, v in task.items() if k not in ("program", "config")}
+            future = client.submit(run_hosted, slim, _shared(client, shared, task["program"]),
+                                   _shared(client, shared, task["config"]),
+                                   key=f"rdcd-run-{task['key']}-{uuid.uuid4().hex[:8]}")
             inflight[future] = task
             keys.add(task["key"])
             completed.add(future)

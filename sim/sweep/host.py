@@ -108,9 +108,13 @@ _HOST: Host | None = None
 _LOCK = threading.Lock()
 
 
-def run_hosted(task: dict[str, Any]) -> dict[str, Any]:
-    """The function a Dask worker runs for each task: through this process's warm host."""
+def run_hosted(task: dict[str, Any], program: str | None = None,
+               config: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The function a Dask worker runs for each task: through this process's warm host. The
+    program's text and the configuration may come apart from the task (sent to workers once)."""
     global _HOST
+    if program is not None:
+        task = {**task, "program": program, "config": config}
     with _LOCK:  # one simulation at a time per worker process, whatever its thread count
         if _HOST is None:
             _HOST = Host()
@@ -126,6 +130,9 @@ def _orphan_watch(parent: int) -> None:
 
 
 def main() -> None:
+    # Ctrl-C in a terminal reaches the whole process group: the sweep stops, but a run cut short
+    # here must not come back as a crashed run. The parent decides when this process ends.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     requests = os.fdopen(os.dup(0), "rb")
     replies = os.fdopen(os.dup(1), "wb")
     devnull = os.open(os.devnull, os.O_RDONLY)

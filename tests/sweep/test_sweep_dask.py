@@ -4,6 +4,7 @@ a cluster of separate `dask scheduler` and `dask worker` processes is used throu
 
 from __future__ import annotations
 
+import csv
 import json
 import os
 import signal
@@ -137,3 +138,38 @@ def test_a_cluster_of_separate_scheduler_and_worker_processes(tmp_path: Path) ->
     finally:
         _stop(processes)
     assert all(p.returncode is not None for p in processes)
+
+
+@pytest.mark.parametrize("workers", ["1", "2"])
+def test_interrupted_sweep_keeps_finished_runs_and_resumes_with_the_missing_ones(tmp_path: Path,
+                                                                                workers: str) -> None:
+    """Ctrl-C as a terminal sends it: SIGINT to the whole process group (workers and hosts too)."""
+    path = experiment(tmp_path, LATTICE.replace("duration = 8", "duration = 20"))
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "rdcd_core", "sweep", str(path), "--workers", workers, "--out", str(out)]
+    process = subprocess.Popen(command, env=env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        while len(list((out / "runs").glob("*.json"))) < 3 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        os.killpg(process.pid, signal.SIGINT)
+        _, err = process.communicate(timeout=120)
+    finally:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)  # whatever is left of the group
+        except ProcessLookupError:
+            pass
+    assert process.returncode == 130, err
+    assert "run the same command again" in err
+    kept = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (out / "runs").glob("*.json")}
+    assert 3 <= len(kept) < 12
+    with open(out / "runs.csv", encoding="utf-8") as file:  # the table holds what had finished
+        assert len(list(csv.DictReader(file))) == len(kept)
+    again = subprocess.run(command, env=env(), capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0, again.stderr
+    assert f"{12 - len(kept)} runs now, {len(kept)} before" in again.stdout
+    for name, content in kept.items():
+        assert ((out / "runs" / name).read_bytes(), (out / "runs" / name).stat().st_mtime_ns) == content
+    assert len(stored_rows(out)) == 12
+    assert all(r["status"] == "ok" for r in stored_rows(out).values())

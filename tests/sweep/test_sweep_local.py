@@ -5,9 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import shlex
-import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -18,7 +15,7 @@ from sim import sweep
 from sim.config import load_config
 from sim.sweep.rows import METRICS, measures
 from sim.sweep.tables import wilson
-from tests.sweep.helpers import LATTICE, env, experiment, stored_rows
+from tests.sweep.helpers import LATTICE, experiment, stored_rows
 
 
 @pytest.fixture(scope="module")
@@ -135,34 +132,6 @@ def test_failed_runs_are_rows_and_the_sweep_goes_on(tmp_path: Path, monkeypatch:
     assert results.summary()[0]["failed"] == 2 and results.failed == 2
 
 
-def test_interrupted_sweep_keeps_finished_runs_and_resumes_with_the_missing_ones(tmp_path: Path) -> None:
-    path = experiment(tmp_path, LATTICE.replace("duration = 8", "duration = 20"))
-    out = tmp_path / "out"
-    command = [sys.executable, "-m", "rdcd_core", "sweep", str(path), "--workers", "1", "--out", str(out)]
-    process = subprocess.Popen(command, env=env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        deadline = time.monotonic() + 120
-        while len(list((out / "runs").glob("*.json"))) < 3 and time.monotonic() < deadline:
-            time.sleep(0.05)
-        process.send_signal(signal.SIGINT)
-        _, err = process.communicate(timeout=60)
-    finally:
-        process.kill()
-    assert process.returncode == 130, err
-    assert "run the same command again" in err
-    kept = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (out / "runs").glob("*.json")}
-    assert 3 <= len(kept) < 12
-    with open(out / "runs.csv", encoding="utf-8") as file:  # the table holds what had finished
-        assert len(list(csv.DictReader(file))) == len(kept)
-    again = subprocess.run(command, env=env(), capture_output=True, text=True, timeout=300)
-    assert again.returncode == 0, again.stderr
-    assert f"{12 - len(kept)} runs now, {len(kept)} before" in again.stdout
-    for name, content in kept.items():
-        assert ((out / "runs" / name).read_bytes(), (out / "runs" / name).stat().st_mtime_ns) == content
-    assert len(stored_rows(out)) == 12
-    assert all(r["status"] == "ok" for r in stored_rows(out).values())
-
-
 def test_outputs_never_overwrite_inputs_or_a_foreign_folder(tmp_path: Path,
                                                             capsys: pytest.CaptureFixture) -> None:
     foreign = tmp_path / "home"
@@ -185,3 +154,38 @@ def test_parquet_beside_csv(finished: tuple[Path, Path]) -> None:
     table = pq.read_table(out / "runs.parquet").to_pylist()
     assert len(table) == 12 and table[0]["key"] in stored_rows(out)
     assert isinstance(table[0]["seed"], int) and isinstance(table[0]["success"], bool)
+
+
+def test_configuration_files_and_random_structures_replay(tmp_path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    from sim.config import CONFIG_DIR
+
+    car7 = (CONFIG_DIR / "car7.json").read_text(encoding="utf-8")
+    (tmp_path / "mine.json").write_text(car7, encoding="utf-8")
+    text = LATTICE.replace('config = ["car7", "car11"]', 'config = ["mine.json", "random6-seed2"]').replace(
+        "[0.0, 0.3]", "[0.1]").replace("to = 3", "to = 2").replace("duration = 8", "duration = 4")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)  # the experiment's configuration is found beside it, not here
+    out = tmp_path / "out"
+    assert main(["sweep", str(experiment(tmp_path, text)), "--workers", "1", "--out", str(out)]) == 0
+    rows = stored_rows(out)
+    assert len(rows) == 4 and all(r["status"] == "ok" for r in rows.values())
+    generated = next(r for r in rows.values() if r["config"] == "random6-seed2")
+    assert f"--config {out}/configs/random6-seed2.json " in generated["simulate"]
+    for row in rows.values():
+        report_path = tmp_path / "report.json"
+        assert main([*shlex.split(row["simulate"])[1:], "--report", str(report_path)]) == 0
+        report = json.loads(report_path.read_text(encoding="utf-8"))
+        assert report["messages"]["sent"] == row["messages_sent"]
+        assert report["messages"]["dropped"] == row["messages_dropped"]
+
+
+def test_summary_prints_what_is_done_and_runs_nothing(finished: tuple[Path, Path],
+                                                      capsys: pytest.CaptureFixture) -> None:
+    path, out = finished
+    before = sorted(p.name for p in (out / "runs").iterdir())
+    assert main(["sweep", str(path), "--out", str(out), "--summary"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split()[:3] == ["config", "packet_loss", "runs"] and len(lines) == 5
+    assert sorted(p.name for p in (out / "runs").iterdir()) == before
