@@ -46,7 +46,9 @@ def _shared(client: Any, shared: dict[str, Any], value: Any) -> Any:
     a few hundred bytes instead of the program's text and the configuration each."""
     digest = hashlib.sha256(json.dumps(value, sort_keys=True).encode("utf-8")).hexdigest()
     if digest not in shared:
-        shared[digest] = client.scatter(value, broadcast=True, hash=False)
+        # In a list: a dict given alone would be scattered key by key under its own keys ("modules"),
+        # and the next configuration's "modules" would find the first one's already there.
+        shared[digest] = client.scatter([value], broadcast=True, hash=False)[0]
     return shared[digest]
 
 
