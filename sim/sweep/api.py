@@ -150,7 +150,11 @@ def _execute(plan: Plan, on_row: Callable[[dict[str, Any]], None], workers: int 
     from distributed import Client
 
     if scheduler is not None:
-        with Client(scheduler, timeout="20s") as remote:
+        try:
+            remote = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as error:
+            raise SweepError(f"cannot reach the Dask scheduler at {scheduler}: {error}") from None
+        with remote:
             return run_dask(remote, tasks, on_row, warn)
     with local_cluster(workers or cores()) as cluster, Client(cluster) as local:
         return run_dask(local, tasks, on_row, warn)
