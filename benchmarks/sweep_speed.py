@@ -1,7 +1,8 @@
 """Speed of `rdcd sweep`: throughput per worker count, parallel efficiency, scheduling overhead,
 and the driver's memory over a long sweep.
 
-    python benchmarks/sweep_speed.py [--runs 8] [--lattice-runs 10000] [--skip-lattice]
+    python benchmarks/sweep_speed.py [--runs 8] [--lattice-runs 10000] [--lattice-workers 2]
+                                     [--skip-lattice] [--skip-throughput]
 
 1. ``--runs`` car7 runs of the obstacle program (wall 1 m ahead, 60 simulated seconds, seeds
    1..N), three ways: in this process (``--workers 1``, no Dask), a local Dask cluster of one
@@ -89,7 +90,7 @@ def throughput(folder: Path, runs: int) -> None:
     print(f"parallel efficiency at 2 workers: {100 * efficiency:.0f} % (target >= 85 %, aim 95 %)")
 
 
-def lattice_memory(folder: Path, runs: int) -> None:
+def lattice_memory(folder: Path, runs: int, workers: int) -> None:
     import psutil
 
     e = experiment(folder, "lattice", "lattice", 1.0, runs, "none")
@@ -109,12 +110,13 @@ def lattice_memory(folder: Path, runs: int) -> None:
     sampler.start()
     start = time.perf_counter()
     try:
-        results = sweep.run(e, out=out, workers=2, progress=False)
+        results = sweep.run(e, out=out, workers=workers, progress=False)
     finally:
         done.set()
         sampler.join()
     wall = time.perf_counter() - start
-    print(f"\n{runs} lattice runs (car7, 1 s) on 2 workers: {wall:.0f} s ({results.run_s:.0f} s running, "
+    print(f"\n{runs} lattice runs (car7, 1 s) on {workers} worker(s): {wall:.0f} s "
+          f"({results.run_s:.0f} s running, "
           f"{results.outputs_s:.0f} s writing tables and plots), {runs / results.run_s:.0f} runs/s, "
           f"{results.failed} failed")
     print(f"{'runs done':>10} {'driver RSS MB':>14}")
@@ -136,14 +138,18 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=8)
     parser.add_argument("--lattice-runs", type=int, default=10_000)
+    parser.add_argument("--lattice-workers", type=int, default=2,
+                        help="workers of the lattice sweep (1: in this process, without Dask)")
     parser.add_argument("--skip-lattice", action="store_true")
+    parser.add_argument("--skip-throughput", action="store_true")
     args = parser.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}, load average {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory(prefix="sweep-speed-") as tmp:
-        throughput(Path(tmp), args.runs)
+        if not args.skip_throughput:
+            throughput(Path(tmp), args.runs)
         if not args.skip_lattice:
-            lattice_memory(Path(tmp), args.lattice_runs)
+            lattice_memory(Path(tmp), args.lattice_runs, args.lattice_workers)
     return 0
 
 
