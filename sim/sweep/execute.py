@@ -27,10 +27,10 @@ class RunTimeout(Exception):
 
 
 @lru_cache(maxsize=8)
-def _compiled(text: str):  # noqa: ANN202 - CompiledProgram; workers keep it warm across runs
-    from rdcd_core.cli_compile import compile_text
+def _compiled(text: str, vm: str | None):  # noqa: ANN202 - CompiledProgram; kept warm across runs
+    from sim.sweep.options import compile_like_simulate
 
-    _, program, _ = compile_text(text)
+    _, program, _ = compile_like_simulate(text, vm)
     if program is None or program.has_errors:
         raise ValueError("the program has errors")
     return program
@@ -83,7 +83,7 @@ def _warm(task: dict[str, Any]):  # noqa: ANN202 - CompiledProgram
     from sim.quiet import import_pybullet
 
     import_pybullet()
-    return _compiled(task["program"])
+    return _compiled(task["program"], task["options"].get("vm"))
 
 
 def _simulate(task: dict[str, Any], program: Any) -> dict[str, Any]:

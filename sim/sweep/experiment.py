@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from sim.sweep.grid import Axis, Grid, range_axis
-from sim.sweep.options import OptionSpec, check_values, defaults, sweepable
+from sim.sweep.options import OptionSpec, check_values, compile_like_simulate, defaults, sweepable
 from sim.sweep.rows import CHECKS, METRICS
 
 TOP_KEYS = ("title", "program", "out", "time_limit_s", "parquet", "run", "grid", "success")
@@ -46,7 +46,7 @@ class Experiment:
     title: str
     program_path: Path
     program_text: str
-    program_digest: str
+    program_digests: dict[str | None, str]  # by the value of simulate's --vm (None: it has none)
     fixed: dict[str, Any]
     grid: Grid
     configs: dict[str, ConfigEntry]
@@ -99,7 +99,7 @@ class _Reader:
 
     def experiment(self, data: dict[str, Any]) -> Experiment:
         self.known(data, TOP_KEYS, "")
-        program_path, text, digest = self.program(data)
+        program_path, text = self.program(data)
         run = self.table(data, "run")
         grid_table = self.table(data, "grid")
         specs = sweepable()
@@ -116,9 +116,11 @@ class _Reader:
         for axis in axes:
             fixed.pop(axis.name, None)
         self.check_values(fixed, axes)
+        vms = next((a.values for a in axes if a.name == "vm"), None) or (fixed.get("vm"),)
+        digests = {vm: self.compiled(program_path, text, vm) for vm in dict.fromkeys(vms)}
         configs = self.configs(fixed, axes)
         checks, min_turn, bounds = self.success(data)
-        return Experiment(self.file, self.string(data, "title", self.file.stem), program_path, text, digest,
+        return Experiment(self.file, self.string(data, "title", self.file.stem), program_path, text, digests,
                           fixed, Grid(axes), configs, checks, min_turn, bounds,
                           self.time_limit(data, fixed, axes), self.out(data), self.parquet(data))
 
@@ -139,10 +141,7 @@ class _Reader:
             raise self.fail(key, f"must be a string, not {_kind(value)}")
         return value
 
-    def program(self, data: dict[str, Any]) -> tuple[Path, str, str]:
-        from rdcd_core.cli_check import render_text
-        from rdcd_core.cli_compile import compile_text
-        from rdcd_core.diagnostics import Severity
+    def program(self, data: dict[str, Any]) -> tuple[Path, str]:
         from rdcd_core.inputs import InputError, read_source
 
         if "program" not in data:
@@ -152,14 +151,22 @@ class _Reader:
             text = read_source(str(path))
         except InputError as error:
             raise self.fail("program", str(error)) from None
-        result, program, diagnostics = compile_text(text)
+        return path, text
+
+    def compiled(self, path: Path, text: str, vm: str | None) -> str:
+        """The digest of the program as compiled for ``vm``; its first error fails the file."""
+        from rdcd_core.cli_check import render_text
+        from rdcd_core.diagnostics import Severity
+
+        result, program, diagnostics = compile_like_simulate(text, vm)
         errors = [d for d in diagnostics if d.severity is Severity.ERROR]
         if program is None or errors:
             first = (render_text(str(path), result, errors[0]).splitlines()[0] if errors
                      else "it does not compile")
             more = f" (and {len(errors) - 1} more; rdcd check shows them)" if len(errors) > 1 else ""
-            raise self.fail("program", f"the program has errors: {first}{more}")
-        return path, text, program_digest(program)
+            target = f" (for --vm {vm})" if vm not in (None, "default") else ""
+            raise self.fail("program", f"the program has errors{target}: {first}{more}")
+        return program_digest(program)
 
     def value(self, key: str, raw: Any, spec: OptionSpec) -> Any:
         if spec.kind is float and isinstance(raw, (int, float)) and not isinstance(raw, bool):

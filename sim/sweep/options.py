@@ -24,15 +24,22 @@ class OptionSpec:
 
 
 @cache
-def sweepable() -> dict[str, OptionSpec]:
+def _parser() -> argparse.ArgumentParser:
     from sim import cli_simulate
+
+    parser = argparse.ArgumentParser(add_help=False)
+    cli_simulate.add_arguments(parser)
+    return parser
+
+
+@cache
+def sweepable() -> dict[str, OptionSpec]:
     from sim.quiet import import_pybullet
 
     import_pybullet()  # sim.run imports it, and its banner must not reach the terminal
     from sim.run import Options
 
-    parser = argparse.ArgumentParser(add_help=False)
-    cli_simulate.add_arguments(parser)
+    parser = _parser()
     carried = {f.name for f in dataclasses.fields(Options)} - {"gui", "record", "progress", "realtime"}
     specs = {}
     for action in parser._actions:  # noqa: SLF001 - the public way to read a parser's options
@@ -66,6 +73,15 @@ def check_values(values: dict[str, Any]) -> str | None:
     """``rdcd simulate``'s own checks of the option values (ranges, obstacle syntax), or None."""
     from sim.cli_simulate import _check_options
 
-    namespace = argparse.Namespace(**{**defaults(), **values, "gui": False, "record": None,
+    every = {a.dest: a.default for a in _parser()._actions}  # noqa: SLF001
+    namespace = argparse.Namespace(**{**every, **values, "gui": False, "record": None,
                                       "report": None, "plot": None})
     return _check_options(namespace)
+
+
+def compile_like_simulate(text: str, vm: str | None):  # noqa: ANN201 - check result, program, diagnostics
+    """Compile as ``rdcd simulate`` does: for the target its ``--vm`` option names (None: a
+    simulate without that option, which compiles for the default target)."""
+    from rdcd_core.cli_compile import compile_text
+
+    return compile_text(text) if vm is None else compile_text(text, target=vm)

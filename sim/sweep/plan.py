@@ -34,7 +34,8 @@ class Plan:
     def key(self, index: int) -> tuple[str, dict[str, Any]]:
         values = self.experiment.values(index)
         config = self.experiment.configs[values["config"]]
-        return run_key(self.experiment.program_digest, config.digest, values), values
+        digest = self.experiment.program_digests[values.get("vm")]
+        return run_key(digest, config.digest, values), values
 
     def keys(self) -> Iterator[str]:
         for index in range(self.total):

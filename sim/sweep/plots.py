@@ -114,7 +114,7 @@ def _distributions(fig: Any, measures: dict[str, dict[str, list[float]]], path: 
 
 
 def write_index(plan: Plan, cells: list[dict[str, Any]], images: list[Path], command: str) -> Path:
-    from rdcd_core.inputs import write_atomically
+    from sim.sweep.store import write_atomically
 
     e = plan.experiment
     axes = e.cell_axes

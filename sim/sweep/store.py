@@ -17,8 +17,6 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from rdcd_core.inputs import write_atomically
-
 MARKER = "sweep.json"
 GENERATED = ("runs.csv", "runs.parquet", "summary.csv", "index.html", MARKER)
 _KEY = re.compile(r"[0-9a-f]{6,64}")
@@ -91,6 +89,16 @@ class Store:
         if not _KEY.fullmatch(prefix):
             return []
         return sorted(p.stem for p in self.runs.glob(f"{prefix}*.json"))
+
+
+def write_atomically(path: str, text: str) -> None:
+    """Write ``text`` to a temporary file beside ``path``, flush it to disk, rename it into place."""
+    def write(temporary: str) -> None:
+        with open(temporary, "w", encoding="utf-8") as file:
+            file.write(text)
+            file.flush()
+            os.fsync(file.fileno())
+    replace_with(Path(path), write)
 
 
 def replace_with(path: Path, write: Any) -> None:
