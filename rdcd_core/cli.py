@@ -20,6 +20,7 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "compile": ("rdcd_core.cli_compile", "compile a program to DCD-VM bytecode fragments"),
     "fmt": ("rdcd_core.cli_fmt", "format RDCD programs"),
     "simulate": ("sim.cli_simulate", "run a program on a simulated ATRON robot"),
+    "sweep": ("sim.sweep.cli", "run experiments: many simulations over a grid of options"),
 }
 
 
