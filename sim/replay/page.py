@@ -41,8 +41,10 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
         entry = by_id.get(mid, {})
         modules.append({"id": mid, "lattice": list(spec.position), "axis": AXIS_NAMES[spec.axis],
                         "wheel": wheel_side(structure, mid),
-                        "connectors": [[round(c, 4) for c in g.connector_direction(spec.axis, v)] for v in range(8)],
-                        "pole": list(g.AXIS_VECTORS[spec.axis]), "role_history": entry.get("role_history", []),
+                        "connectors": [[round(c, 4) for c in g.connector_direction(spec.axis, v)]
+                                       for v in range(8)],
+                        "pole": list(g.AXIS_VECTORS[spec.axis]),
+                        "role_history": entry.get("role_history", []),
                         "final_role": entry.get("final_role"), "fragments": stored.get(mid, []),
                         "errors": len(entry.get("errors", []))})
     roles = sorted({r.name for r in program.roles})
@@ -58,7 +60,8 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
         "obstacles": report.get("obstacles", []),
         "obstacle_height": _obstacle_height(),
         "module_radius": params.MODULE_RADIUS,
-        "ring": {"radius": params.RING_RADIUS, "offset": params.RING_AXIAL_OFFSET, "width": params.RING_WIDTH},
+        "ring": {"radius": params.RING_RADIUS, "offset": params.RING_AXIAL_OFFSET,
+                 "width": params.RING_WIDTH},
         "source": {"name": source_name, "lines": recording.sources.lines},
         "fragments": [{"name": f.name, "kind": f.kind, "role": f.role, "size": f.size,
                        "lines": list(f.source)} for f in program.fragments],
@@ -95,7 +98,7 @@ def render_page(data: dict[str, Any]) -> str:
     title = html.escape(f"rdcd replay: {data['meta']['program']} on {data['meta']['config']}")
     return (
         "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-        f"<meta http-equiv=\"Content-Security-Policy\" content=\"{html.escape(policy)}\">\n"
+        f"<meta http-equiv=\"Content-Security-Policy\" content=\"{html.escape(policy, quote=False)}\">\n"
         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
         f"<title>{title}</title>\n<style>{style}</style>\n</head><body>\n"
         "<noscript>The replay needs JavaScript and WebGL.</noscript>\n"

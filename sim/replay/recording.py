@@ -86,7 +86,8 @@ class Recording:
         self._attach_network(world.network)
         self.sample(0.0)
 
-    def sampled(self, advance: Callable[[float], None], clock: Callable[[], float]) -> Callable[[float], None]:
+    def sampled(self, advance: Callable[[float], None],
+                clock: Callable[[], float]) -> Callable[[float], None]:
         """``advance`` in pieces of one sample interval, a sample after each."""
         interval = 1.0 / self.hz
 
@@ -128,7 +129,8 @@ class Recording:
             runtime._finish = finished
 
     def _attach_network(self, network: Any) -> None:
-        def on_send(now: float, source: int, target: int, physical: int, packet: bytes, dropped: bool) -> None:
+        def on_send(now: float, source: int, target: int, physical: int, packet: bytes,
+                    dropped: bool) -> None:
             if len(self.packets) >= MAX_PACKETS:
                 self.dropped_packets += 1
                 return
@@ -136,7 +138,8 @@ class Recording:
             self.packets.append((now, source, target, physical, len(packet), kind, dropped))
         network.on_send = on_send
 
-    def _event(self, t: float, mid: int, kind: str, where: tuple[int, int] | None, line: int, text: str) -> None:
+    def _event(self, t: float, mid: int, kind: str, where: tuple[int, int] | None, line: int,
+               text: str) -> None:
         if len(self.events) >= MAX_EVENTS:
             self.dropped_events += 1
             return
@@ -213,8 +216,8 @@ class Recording:
     def stored_fragments(self) -> dict[int, list[str]]:
         out = {}
         for mid, runtime in self.runtimes.items():
-            names = [self.sources.fragment_name(self.sources.locate(s.code, 0)[0]) for s in runtime.store.slots]
-            out[mid] = names
+            out[mid] = [self.sources.fragment_name(self.sources.locate(s.code, 0)[0])
+                        for s in runtime.store.slots]
         return out
 
     def finish_notes(self) -> list[str]:
