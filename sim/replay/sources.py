@@ -14,7 +14,10 @@ from rdcd_core.compiler.program import CompiledProgram
 class SourceIndex:
     def __init__(self, program: CompiledProgram, text: str) -> None:
         self.fragments = program.fragments
-        self.lines = text.splitlines()
+        # lines as the compiler counts them (rdcd_core.source.LineIndex: only \n ends a line)
+        self.lines = [line.removesuffix("\r") for line in text.split("\n")]
+        if self.lines and self.lines[-1] == "" and text.endswith("\n"):
+            self.lines.pop()
         self._found: dict[bytes, tuple[int, int] | None] = {}
         self._maps = []
         for fragment in self.fragments:
