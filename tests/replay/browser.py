@@ -45,7 +45,7 @@ def need_browser() -> None:
 
 def probe(page: Path, timeout: float = 300, **options: Any) -> dict[str, Any]:
     env = {**os.environ, "RDCD_REPLAY_NODE_MODULES": str(VIEWER / "node_modules")}
-    done = subprocess.run(["node", str(PROBE), str(page), json.dumps(options)], capture_output=True, text=True,
-                          timeout=timeout, env=env)
+    done = subprocess.run(["node", str(PROBE), str(page), json.dumps(options)], capture_output=True,
+                          text=True, timeout=timeout, env=env)
     assert done.returncode == 0, done.stderr[-3000:]
     return json.loads(done.stdout)

@@ -76,6 +76,7 @@ try {
     out.error = await page.evaluate(() => window.rdcdReplay && window.rdcdReplay.error);
   }
   if (options.shot) {
+    if (options.follow) await page.evaluate(() => window.rdcdReplay.setFollow(true));
     await page.evaluate((t) => window.rdcdReplay && window.rdcdReplay.seek && window.rdcdReplay.seek(t), options.shotTime ?? 0);
     await page.screenshot({ path: options.shot });
   }

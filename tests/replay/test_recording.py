@@ -67,7 +67,7 @@ def test_events_know_their_fragment_and_source_line() -> None:
     assert {"program", "run", "role", "handler", "sensor", "command"} <= kinds
     handlers = [e for e in recording.events if e[2] == "handler"]
     assert len(handlers) == report["obstacle_detections"]
-    for _, _, _, fragment, pc, line, _ in handlers:
+    for _, _, _, fragment, _, line, _ in handlers:
         assert "handleEvent" in lines[line - 1]
         assert program.fragments[fragment].source[0] <= line <= program.fragments[fragment].source[1]
     for _, _, _, fragment, _, line, text in (e for e in recording.events if e[2] == "program"):
