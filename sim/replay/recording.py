@@ -118,7 +118,9 @@ class Recording:
                     previous(kind, detail)
                 self._vm_event(clock(), mid, runtime, kind, detail)
             runtime.on_event = on_event
-            finish = runtime._finish
+            finish = getattr(runtime, "_finish", None)
+            if finish is None:  # a runtime without the scheduler's finish step: no run events
+                continue
 
             def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish) -> None:
                 self._context = self._run_finished(clock(), mid, task, result)
