@@ -218,9 +218,15 @@ class Recording:
     def stored_fragments(self) -> dict[int, list[str]]:
         out = {}
         for mid, runtime in self.runtimes.items():
-            out[mid] = [self.sources.fragment_name(self.sources.locate(s.code, 0)[0])
-                        for s in runtime.store.slots]
+            out[mid] = [self._slot_name(slot) for slot in runtime.store.slots]
         return out
+
+    def _slot_name(self, slot: Any) -> str:
+        """A stored slot as the user knows it: its fragment, and what part of it when a piece."""
+        where, _ = self.sources.locate(slot.code, 0)
+        name = self.sources.fragment_name(where)
+        kind = getattr(slot, "kind", "program")
+        return name if kind == "program" else f"{name} ({kind})"
 
     def finish_notes(self) -> list[str]:
         notes = list(self.notes)

@@ -157,7 +157,7 @@ export class Scene {
     const centre = new THREE.Vector3();
     for (const m of this.modules) centre.add(m.centre);
     centre.divideScalar(this.modules.length);
-    const span = Math.max(0.4, Math.sqrt(this.rec.m) * 0.12);
+    const span = Math.max(0.55, Math.sqrt(this.rec.m) * 0.14);
     this.controls.target.copy(centre);
     this.camera.position.set(centre.x - span * 1.6, centre.y - span * 2.2, centre.z + span * 1.8);
     this.controls.update();
