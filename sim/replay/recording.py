@@ -6,7 +6,8 @@ each runtime's ``on_event`` (chained after the report's own recorder), the netwo
 the physics world's ``on_detection``, and the run loop, which it splits into sample intervals
 (``advance`` of both worlds is whole physics steps / VM ticks, so splitting changes nothing).
 Runs are seen by wrapping each runtime's ``_finish`` on the instance (the scheduler calls it
-after every run with the task and its outcome): that gives the fragment and the pc.
+after every run with the task and its outcome): that gives the fragment and the pc; commands a
+program sends, by wrapping its ``send_command`` (what the interpreter calls) the same way.
 
 Poses: per sample and module, the centre (mm) and the rotation since the start of each of its
 two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``).
@@ -23,6 +24,7 @@ from typing import Any
 from sim.replay.sources import SourceIndex
 from vm.lattice.structure import Structure
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
+from vm.roles import ANY_ROLE
 
 SAMPLE_HZ = 10.0
 MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
@@ -118,6 +120,16 @@ class Recording:
                     previous(kind, detail)
                 self._vm_event(clock(), mid, runtime, kind, detail)
             runtime.on_event = on_event
+            send = getattr(runtime, "send_command", None)
+            if send is not None:  # what a program calls to send a command (vm.interpreter.Machine)
+                def send_command(role: int, command: int, arg: int, mid: int = mid, runtime: Any = runtime,
+                                 send: Any = send) -> None:
+                    where, line = self._running_pc()
+                    name = "any role" if role == ANY_ROLE else runtime.roles.name(role)
+                    self._event(clock(), mid, "send", where, line,
+                                f"sent {_command_name(command)} ({arg}) to {name}")
+                    send(role, command, arg)
+                runtime.send_command = send_command
             finish = getattr(runtime, "_finish", None)
             if finish is None:  # a runtime without the scheduler's finish step: no run events
                 continue

@@ -64,7 +64,9 @@ def test_events_know_their_fragment_and_source_line() -> None:
     program = obstacle_program()
     lines = SOURCE.splitlines()
     kinds = {e[2] for e in recording.events}
-    assert {"program", "run", "role", "handler", "sensor", "command"} <= kinds
+    assert {"program", "run", "role", "handler", "sensor", "command", "send"} <= kinds
+    sends = [e for e in recording.events if e[2] == "send"]
+    assert all("Wheel.stop()" in lines[e[5] - 1] for e in sends)  # the handler sends stop to the wheels
     handlers = [e for e in recording.events if e[2] == "handler"]
     assert len(handlers) == report["obstacle_detections"]
     for _, _, _, fragment, _, line, _ in handlers:
