@@ -58,7 +58,8 @@ class Recording:
         n = max(1, len(self.structure.modules))
         wanted = self.duration * self.hz * n
         if wanted > MAX_MODULE_SAMPLES:
-            self.hz = max(MAX_MODULE_SAMPLES / (self.duration * n), 1 / 60)
+            # a whole number of 0.1-s intervals: whole physics steps and VM ticks, as before
+            self.hz = SAMPLE_HZ / math.ceil(wanted / MAX_MODULE_SAMPLES)
             self.notes.append(f"long run: poses sampled every {1 / self.hz:.2g} s instead of "
                               f"{1 / SAMPLE_HZ:g} s (at most {MAX_MODULE_SAMPLES:,} module samples)")
 
@@ -94,16 +95,18 @@ class Recording:
         interval = 1.0 / self.hz
 
         def run(duration: float) -> None:
-            end = clock() + duration
-            while clock() < end - 1e-9:
-                advance(min(interval, end - clock()))
+            done = 0.0  # counted like sim.run._chunks: a piece too short for one step still ends
+            while done < duration - 1e-9:
+                step = min(interval, duration - done)
+                advance(step)
+                done += step
                 self.sample(clock())
         return run
 
     def sample(self, t: float) -> None:
         if self._sample is None:
             return
-        if self.times and t - self.times[-1] < 0.5 / self.hz:
+        if self.times and round(t, 3) <= self.times[-1]:
             return
         self.times.append(round(t, 3))
         self.rows.append(self._sample())

@@ -128,3 +128,14 @@ def test_page_is_one_file_with_a_strict_policy() -> None:
     data = page_data(html)
     assert data["source"]["lines"] == SOURCE.split("\n")[:-1]
     assert [m["id"] for m in data["modules"]] == [m["id"] for m in report["modules"]]
+
+
+@pytest.mark.parametrize("world", ["lattice", "physics"])
+@pytest.mark.parametrize("duration", [0.01, 0.333])
+def test_short_odd_durations_end_and_match_the_plain_run(world: str, duration: float) -> None:
+    from sim.config import load_config
+
+    plain = simulate(obstacle_program(), load_config("car7"), Options(world=world, duration=duration))
+    recording, recorded = recorded_run(world, duration, obstacle="none")
+    assert _without_wall_time(recorded) == _without_wall_time(plain)
+    assert recording.times[0] == 0.0 and len(recording.times) >= 2
