@@ -22,9 +22,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from sim.replay.sources import SourceIndex
+from vm.interpreter import Outcome
 from vm.lattice.structure import Structure
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
 from vm.roles import ANY_ROLE
+
+ERROR = Outcome.ERROR
 
 SAMPLE_HZ = 10.0
 MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
@@ -50,7 +53,6 @@ class Recording:
     dropped_packets: int = 0
     runtimes: dict = field(default_factory=dict)
     _sample: Callable[[], list[int]] | None = None
-    _first_runs: set = field(default_factory=set)
     _last_command: dict = field(default_factory=dict)
     _context: tuple[tuple[int, int] | None, int] | None = None
 
@@ -121,6 +123,11 @@ class Recording:
                          previous: Any = previous) -> None:
                 if previous is not None:
                     previous(kind, detail)
+                if kind == "command":  # behaviours repeat the same command every tick: keep the changes
+                    key = (detail.get("command"), detail.get("arg"))
+                    if self._last_command.get(mid) == key:
+                        return
+                    self._last_command[mid] = key
                 self._vm_event(clock(), mid, runtime, kind, detail)
             runtime.on_event = on_event
             send = getattr(runtime, "send_command", None)
@@ -137,7 +144,14 @@ class Recording:
             if finish is None:  # a runtime without the scheduler's finish step: no run events
                 continue
 
-            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish) -> None:
+            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish,
+                         ran: set[int] = set()) -> None:  # noqa: B006 - one set per module, on purpose
+                slot = task.slot
+                # fast path: repeating behaviours run every tick; their first run is the story
+                if slot is None or task.frame is None or (id(slot) in ran and result.outcome is not ERROR):
+                    finish(task, result)
+                    return
+                ran.add(id(slot))
                 self._context = self._run_finished(clock(), mid, task, result)
                 try:
                     finish(task, result)  # an error it reports is located at the run's pc
@@ -181,10 +195,6 @@ class Recording:
             name = self.sources.fragment_name(where)
             text = f"fragment {name} received and stored ({detail.get('size')} bytes)"
         elif kind == "command":
-            key = (detail.get("command"), detail.get("arg"))
-            if self._last_command.get(mid) == key:
-                return  # behaviours repeat the same command every tick: keep the changes
-            self._last_command[mid] = key
             where, line = self._running_pc()
             text = f"command {_command_name(detail.get('command'))} ({detail.get('arg')}) executed"
         elif kind == "error":
@@ -214,19 +224,12 @@ class Recording:
             f = f.f_back
         return None, -1
 
-    def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int] | None:
-        slot = task.slot
-        if slot is None or task.frame is None:
-            return None
-        outcome = result.outcome.value
-        key = (mid, id(slot))
-        if outcome != "error" and key in self._first_runs:
-            return None  # repeating behaviours run every tick: their first run is the story
-        self._first_runs.add(key)
-        where, line = self.sources.locate(slot.code, max(0, task.frame.pc - 1))
+    def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int]:
+        """A run event for the first run of a slot on a module, or a run that ended in an error."""
+        where, line = self.sources.locate(task.slot.code, max(0, task.frame.pc - 1))
         name = self.sources.fragment_name(where)
         pc = where[1] if where else -1
-        self._event(t, mid, "run", where, line, f"fragment {name} ran to pc {pc}: {outcome}")
+        self._event(t, mid, "run", where, line, f"fragment {name} ran to pc {pc}: {result.outcome.value}")
         return where, line
 
     # ---- results ---------------------------------------------------------------------------
