@@ -8,13 +8,14 @@ import {
 import { channel, lastAtOrBefore, roleAt } from "./data.js";
 
 const UP = new THREE.Vector3(0, 1, 0);
+const LARGE = 40; // modules: above this, coarser shapes
 
 export class Scene {
   constructor(rec, container) {
     this.rec = rec;
     const data = rec.data;
     this.roleColour = new Map(data.roles.map((name, i) => [name, ROLE_COLOURS[i % ROLE_COLOURS.length]]));
-    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: false });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     container.appendChild(this.renderer.domElement);
     this.scene = new THREE.Scene();
@@ -62,9 +63,11 @@ export class Scene {
     const data = this.rec.data;
     const r = data.module_radius;
     const m = data.modules.length;
-    // few triangles: software WebGL (no GPU) must still draw 100 modules at 30 frames a second
-    const shell = new THREE.SphereGeometry(r, 16, 5, 0, Math.PI * 2, 0, Math.PI / 2);
-    const connector = new THREE.CircleGeometry(r * 0.24, 8).rotateX(-Math.PI / 2); // a disc facing +y
+    // few triangles: software WebGL (no GPU) must still draw 100 modules at 30 frames a second,
+    // and vertices are what it spends its time on; large structures get coarser shells
+    const [around, rings, disc] = m <= LARGE ? [16, 5, 8] : [10, 3, 6];
+    const shell = new THREE.SphereGeometry(r, around, rings, 0, Math.PI * 2, 0, Math.PI / 2);
+    const connector = new THREE.CircleGeometry(r * 0.24, disc).rotateX(-Math.PI / 2); // a disc facing +y
     const ring = new THREE.TorusGeometry(data.ring.radius - data.ring.width / 4, data.ring.width / 2, 4, 20);
     this.shells = new THREE.InstancedMesh(shell, new THREE.MeshLambertMaterial({ color: 0xffffff }), 2 * m);
     this.darkConnectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0x333333 }), 4 * m);
