@@ -74,7 +74,7 @@ def overhead(config: str, world: str, seconds: float, repeat: int) -> None:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3, metavar="N",
+    parser.add_argument("--repeat", type=int, default=5, metavar="N",
                         help="runs per overhead case (the best is kept)")
     parser.add_argument("--screenshot", metavar="PNG", help="also save a screenshot of the car7 replay here")
     args = parser.parse_args()
