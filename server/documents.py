@@ -19,6 +19,7 @@ class Document:
     last_good: Analysis | None = None  # the latest analysis without syntax errors
     published_version: int | None = None
     pending: asyncio.Task | None = None
+    target: str = "default"  # the setting rdcd.target: what the program is checked for
     _positions: Positions | None = field(default=None, repr=False)
     _index: LineIndex | None = field(default=None, repr=False)
 
@@ -36,7 +37,7 @@ class Document:
     def current(self) -> Analysis:
         """The analysis of the current text (checked now if it has not been yet)."""
         if self.analysis is None:
-            self.analysis = analyze(self.text, previous=self.last_good)
+            self.analysis = analyze(self.text, previous=self.last_good, target=self.target)
             self.analysis._line_index = self.line_index()
             if self.analysis.model is not None and not self.analysis.has_syntax_errors:
                 self.last_good = self.analysis
@@ -57,6 +58,16 @@ class Document:
 class Documents:
     def __init__(self) -> None:
         self.open: dict[str, Document] = {}
+        self.target = "default"
+
+    def retarget(self, target: str) -> list[Document]:
+        """Checks every open document for ``target`` from now on; returns those to check again."""
+        if target == self.target:
+            return []
+        self.target = target
+        for document in self.open.values():
+            document.target, document.analysis = target, None
+        return list(self.open.values())
 
     def get(self, uri: str) -> Document | None:
         return self.open.get(uri)
@@ -64,7 +75,7 @@ class Documents:
     def put(self, uri: str, text: str, version: int) -> Document:
         document = self.open.get(uri)
         if document is None:
-            document = self.open[uri] = Document(uri, version, text)
+            document = self.open[uri] = Document(uri, version, text, target=self.target)
         else:
             document.update(text, version)
         return document

@@ -51,6 +51,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     add_replay(parser)
 
+    parser.add_argument("--vm", choices=("default", "original"), default="default",
+                        help="VM profile of every module: this project's DCD-VM (default) or the original "
+                             "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
+    parser.add_argument("--target", choices=("default", "original"), default=None,
+                        help="compile the program for this target (default: the one --vm names)")
+
 
 MAX_DURATION_S = 3600.0
 
@@ -172,7 +178,7 @@ def _physics_problem(structure) -> str | None:  # noqa: ANN001
             "modules); use --world lattice")
 
 
-def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
+def _compile(path: str, target: str):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
     from rdcd_core.cli_compile import compile_text
     from rdcd_core.diagnostics import Severity
@@ -182,7 +188,7 @@ def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
         text = read_source(path)
     except InputError as e:
         return _fail(str(e))
-    result, program, diagnostics = compile_text(text)
+    result, program, diagnostics = compile_text(text, target=target)
     errors = [d for d in diagnostics if d.severity is Severity.ERROR]
     for diagnostic in errors:
         sys.stderr.write(render_text(path, result, diagnostic))
@@ -227,7 +233,7 @@ def run(args: argparse.Namespace) -> int:
         check_outputs(outputs, inputs)
     except (ConfigError, InputError) as e:
         return _fail(str(e))
-    program = _compile(args.file)
+    program = _compile(args.file, args.target or args.vm)
     if isinstance(program, int):
         return program
     from sim.replay.cli import new_recording
@@ -237,7 +243,7 @@ def run(args: argparse.Namespace) -> int:
     recording = new_recording(args, program, structure)
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
-                      progress=_progress_bar(), realtime=args.gui, recording=recording)
+                      progress=_progress_bar(), realtime=args.gui, vm=args.vm, recording=recording)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui

@@ -10,6 +10,7 @@ from rdcd_core.compiler.roletable import RoleTable, application_name
 from rdcd_core.semantics.model import MethodSymbol, Model, Value
 from rdcd_core.source import Span
 from rdcd_core.types import PREDEFINED_VALUES, Type
+from vm.isa.targets import DEFAULT, Target
 
 
 @dataclass(slots=True)
@@ -17,13 +18,17 @@ class Context:
     model: Model
     table: RoleTable
     role: str  # the concrete role the code is specialised for
-    strict: bool = False
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     mixins: list[str] = field(default_factory=list)  # active assumeRole mixins, innermost last
     inlining: list[str] = field(default_factory=list)
     inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
     cache: dict[tuple[str, int], object] = field(default_factory=dict)  # per-compilation memo
+    target: Target = DEFAULT  # what the code must run on (vm.isa.targets)
+    # Local states (bits over geometry.LOCAL_STATES) in which the code being generated may run:
+    # a discovery test knows the states its earlier tests let through, a role's code the axes its
+    # invariants allow. None: any state.
+    states: int | None = None
 
     def report(self, code: str, span: Span, message: str) -> None:
         if not any(d.code == code and d.span == span for d in self.diagnostics):
@@ -56,7 +61,20 @@ class Context:
         name = application_name(self.mixins[-1], self.role) if self.mixins else self.role
         return self.table.id_of(name) or 0
 
+    def has(self, op: str) -> bool:
+        """Whether the target runs instruction ``op``."""
+        return self.target.implements_name(op)
+
     def ext(self, op: str, span: Span) -> None:
-        if self.strict:
-            self.report(codes.EXT_REFUSED, span,
-                        f"this needs the extension instruction {op}; --strict-isa refuses it")
+        self.need(op, span, "this needs the extension instruction")
+
+    def need(self, op: str, span: Span, what: str) -> bool:
+        """True if the target runs ``op``; otherwise reports that ``what`` cannot be compiled."""
+        if self.has(op):
+            return True
+        self.cannot(span, f"{what} {op}, which the {self.target.name} target does not run")
+        return False
+
+    def cannot(self, span: Span, why: str) -> None:
+        """Reports code that the target cannot express (E605), naming the role and why."""
+        self.report(codes.EXT_REFUSED, span, f"in role {self.role}: {why}")
