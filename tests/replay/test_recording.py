@@ -152,3 +152,15 @@ def test_stored_slots_are_named_after_the_fragment_that_stored_them() -> None:
             assert slot.code in fragment.code
             assert name.endswith(f"({slot.kind})") or slot.kind == "program"
     assert any(name.endswith("(handler)") for stored in names.values() for name in stored)
+
+
+def test_events_and_packets_beyond_their_caps_are_counted_in_a_note(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sim.replay.recording as recording_module
+
+    monkeypatch.setattr(recording_module, "MAX_EVENTS", 5)
+    monkeypatch.setattr(recording_module, "MAX_PACKETS", 7)
+    recording, report = recorded_run("lattice", 3.0)
+    assert len(recording.events) == 5 and len(recording.packets) == 7
+    assert recording.dropped_packets == report["messages"]["sent"] - 7 > 0
+    notes = " ".join(recording.finish_notes())
+    assert "events after the first 5 are not shown" in notes and "packets after the first 7" in notes
