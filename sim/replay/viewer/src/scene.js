@@ -70,20 +70,21 @@ export class Scene {
     const connector = new THREE.CircleGeometry(r * 0.24, disc).rotateX(-Math.PI / 2); // a disc facing +y
     const ring = new THREE.TorusGeometry(data.ring.radius - data.ring.width / 4, data.ring.width / 2, 4, 20);
     this.shells = new THREE.InstancedMesh(shell, new THREE.MeshLambertMaterial({ color: 0xffffff }), 2 * m);
-    this.darkConnectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0x333333 }), 4 * m);
-    this.lightConnectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0xf0f0f0 }), 4 * m);
+    // connectors alternate dark and light (so a turning joint shows); one draw call for all of them
+    this.connectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0xffffff }), 8 * m);
     const wheels = data.modules.filter((module) => module.wheel !== 0).length;
     this.rings = new THREE.InstancedMesh(ring, new THREE.MeshLambertMaterial({ color: 0x222222 }), Math.max(1, wheels));
     this.rings.count = wheels;
     const white = new THREE.Color(0xffffff);
-    for (const mesh of [this.shells, this.darkConnectors, this.lightConnectors, this.rings]) {
+    for (const mesh of [this.shells, this.connectors, this.rings]) {
       mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
       mesh.frustumCulled = false;
       this.scene.add(mesh);
     }
     for (let k = 0; k < 2 * m; k++) this.shells.setColorAt(k, white);
-    let dark = 0;
-    let light = 0;
+    let plug = 0;
+    const dark = new THREE.Color(0x333333);
+    const light = new THREE.Color(0xf0f0f0);
     let tyre = 0;
     const one = new THREE.Vector3(1, 1, 1);
     this.modules = data.modules.map((module, i) => {
@@ -97,8 +98,8 @@ export class Scene {
           const d = new THREE.Vector3(...module.connectors[v]);
           const q = new THREE.Quaternion().setFromUnitVectors(UP, d);
           const local = new THREE.Matrix4().compose(d.clone().multiplyScalar(r * 1.003), q, one);
-          parts.push(v % 2 === 0 ? { mesh: this.darkConnectors, index: dark++, local }
-            : { mesh: this.lightConnectors, index: light++, local });
+          this.connectors.setColorAt(plug, v % 2 === 0 ? dark : light);
+          parts.push({ mesh: this.connectors, index: plug++, local });
         }
         if (module.wheel === side) {
           const q = new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 0, 1), pole);
@@ -204,7 +205,7 @@ export class Scene {
         this.shells.instanceColor.needsUpdate = true;
       }
     }
-    for (const mesh of [this.shells, this.darkConnectors, this.lightConnectors, this.rings]) {
+    for (const mesh of [this.shells, this.connectors, this.rings]) {
       mesh.instanceMatrix.needsUpdate = true;
     }
     this.trail.geometry.setDrawRange(0, s + 1);
