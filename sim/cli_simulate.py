@@ -47,6 +47,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write an animated GIF to this file (.gif added if it has no extension; "
                              "physics world)")
     parser.add_argument("--gui", action="store_true", help="show PyBullet's window (needs an X display)")
+    from sim.replay.cli import add_argument as add_replay
+
+    add_replay(parser)
 
 
 MAX_DURATION_S = 3600.0
@@ -136,6 +139,11 @@ def _output_paths(args: argparse.Namespace) -> list[tuple[str, str]]:
     if args.record is not None:
         args.record = _with_format("--record", args.record, ["gif"], "gif")
         outputs.append(("--record", args.record))
+    if getattr(args, "replay", None) is not None:
+        from sim.replay.cli import ACCEPTED
+
+        args.replay = _with_format("--replay", args.replay, ACCEPTED, "html")
+        outputs.append(("--replay", args.replay))
     return outputs
 
 
@@ -222,12 +230,14 @@ def run(args: argparse.Namespace) -> int:
     program = _compile(args.file)
     if isinstance(program, int):
         return program
+    from sim.replay.cli import new_recording
     from sim.robot import RobotError
     from sim.run import Options, simulate
 
+    recording = new_recording(args, program, structure)
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
-                      progress=_progress_bar(), realtime=args.gui)
+                      progress=_progress_bar(), realtime=args.gui, recording=recording)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui
@@ -238,6 +248,13 @@ def run(args: argparse.Namespace) -> int:
 
     # the files first: a closed standard output must not cost the user the run's results
     written, problem = _write_outputs(args, report, structure)
+    if recording is not None and problem is None:
+        from sim.replay.cli import write as write_replay
+
+        try:
+            written.append(write_replay(args, recording, program, structure, report))
+        except OSError as e:
+            problem = f"--replay {args.replay}: cannot write: {_why(e)}"
     print(summary(report))
     for line in written:
         print(line)

@@ -35,6 +35,7 @@ class Options:
     record: str | None = None
     progress: Progress | None = None
     realtime: bool = False  # pace the GUI at wall-clock speed
+    recording: Any = None  # a sim.replay.recording.Recording to fill, or None
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -113,13 +114,17 @@ def _run_physics(program: CompiledProgram, structure: Structure, roles: RoleTabl
             runtime.on_event = _recorder(events, lambda: world.time, mid)
         world.on_detection = lambda mid, k: events.append(
             {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
+        advance = world.advance
+        if options.recording is not None:
+            options.recording.attach_physics(world, runtimes)
+            advance = options.recording.sampled(world.advance, lambda: world.time)
         inject_program(program, runtimes[structure.entry].inject)
         starts = {mid: (float(c[0]), float(c[1])) for mid, c in world.module_centres().items()}
         recorder = None
         if options.record:
             from sim.record import GifRecorder
             recorder = GifRecorder(world, roles)
-        _chunks(options, world.advance, recorder.capture if recorder else None)
+        _chunks(options, advance, recorder.capture if recorder else None)
         if recorder:
             recorder.save(options.record)
         return RunResult(runtimes, events, world.network.counters.as_dict(), world.tracking, boxes, starts)
@@ -152,6 +157,10 @@ def _run_lattice(program: CompiledProgram, structure: Structure, roles: RoleTabl
     events: list[dict[str, Any]] = []
     for mid, runtime in world.runtimes.items():
         runtime.on_event = _recorder(events, world.now, mid)
+    advance = world.advance
+    if options.recording is not None:
+        options.recording.attach_lattice(world)
+        advance = options.recording.sampled(world.advance, world.now)
     inject_program(program, world.inject)
-    _chunks(options, world.advance)
+    _chunks(options, advance)
     return RunResult(world.runtimes, events, world.counters.as_dict(), None, boxes)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import heapq
 import random
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from vm.lattice.structure import Structure
@@ -48,6 +49,9 @@ class Network:
         self._queue: list[InFlight] = []
         self._seq = 0
         self._ports = {mid: structure.neighbours(mid) for mid in structure.modules}
+        # an observer of every packet on a connected link (a replay recording); off by default:
+        # on_send(now, source, target, physical, packet, dropped)
+        self.on_send: Callable[[float, int, int, int, bytes, bool], None] | None = None
 
     def send(self, now: float, source: int, physical: int, packet: bytes) -> None:
         packet = bytes(packet)
@@ -60,7 +64,11 @@ class Network:
             self.counters.oversize += 1
         if self.loss and self.rng.random() < self.loss:
             self.counters.dropped += 1
+            if self.on_send is not None:
+                self.on_send(now, source, peer[0], physical, packet, True)
             return
+        if self.on_send is not None:
+            self.on_send(now, source, peer[0], physical, packet, False)
         if self.corruption and packet and self.rng.random() < self.corruption:
             i = self.rng.randrange(len(packet))
             packet = packet[:i] + bytes([packet[i] ^ (1 << self.rng.randrange(8))]) + packet[i + 1:]

@@ -1,0 +1,70 @@
+"""One pose sample of every module: centre (mm) and each hemisphere's rotation since the start.
+
+The physics world reads its links (their frames are aligned with the lattice at the start, so a
+link's orientation is the rotation it made since); the lattice world does not move modules, so
+the centre is fixed and only the hemisphere holding the physical south connectors (4-7) turns,
+by the joint angle about its own pole (the sign convention of ``sim.robot``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from sim import geometry as g
+from sim import params
+from sim.replay.recording import quantise_quaternion
+from vm.lattice.structure import Structure
+
+IDENTITY = quantise_quaternion((0.0, 0.0, 0.0, 1.0))
+
+
+def _mm(v: float) -> int:
+    return max(-32767, min(32767, round(v * 1000)))
+
+
+def physics_sampler(world: Any, structure: Structure) -> Callable[[], list[int]]:
+    import pybullet as pb
+
+    from sim.poses import quat_matrix, to_world
+
+    order = sorted(structure.modules)
+    bodies = [world.robot.modules[mid] for mid in order]
+    links = sorted({mb.links[side] for mb in bodies for side in (g.PLUS, g.MINUS)})
+    body, client = world.robot.body, world.client
+
+    def sample() -> list[int]:
+        states = dict(zip(links, pb.getLinkStates(body, links, physicsClientId=client), strict=True))
+        row: list[int] = []
+        for mb in bodies:
+            plus, minus = states[mb.links[g.PLUS]], states[mb.links[g.MINUS]]
+            centre = to_world((plus[4], quat_matrix(plus[5])), mb.offsets[g.PLUS])
+            row += [_mm(centre[0]), _mm(centre[1]), _mm(centre[2])]
+            row += quantise_quaternion(plus[5]) + quantise_quaternion(minus[5])
+        return row
+    return sample
+
+
+def lattice_sampler(world: Any, structure: Structure) -> Callable[[], list[int]]:
+    order = sorted(structure.modules)
+    u = params.LATTICE_UNIT
+    lift = params.RING_RADIUS - min(s.position[2] for s in structure.modules.values()) * u
+    fixed = []
+    for mid in order:
+        spec = structure.modules[mid]
+        centre = g.lattice_to_world(spec.position)
+        south = g.physical_side(spec, 4)
+        pole = g.hemisphere_pole(spec.axis, south)
+        fixed.append(([_mm(centre[0]), _mm(centre[1]), _mm(centre[2] + lift)], south, pole, world.hals[mid]))
+
+    def sample() -> list[int]:
+        row: list[int] = []
+        for centre, south, pole, hal in fixed:
+            half = math.radians(hal.joint_angle_deg()) / 2
+            s = math.sin(half)
+            turned = quantise_quaternion((pole[0] * s, pole[1] * s, pole[2] * s, math.cos(half)))
+            row += centre
+            row += (turned + IDENTITY) if south == g.PLUS else (IDENTITY + turned)
+        return row
+    return sample

@@ -1,0 +1,247 @@
+"""The recording of a run, for the replay page: poses, roles, VM events, packets, detections.
+
+A ``Recording`` is handed to ``sim.run.simulate``; it watches the world from outside, through
+hooks that already exist or are off by default (DESIGN.md rule 4: the VM sees nothing new):
+each runtime's ``on_event`` (chained after the report's own recorder), the network's ``on_send``,
+the physics world's ``on_detection``, and the run loop, which it splits into sample intervals
+(``advance`` of both worlds is whole physics steps / VM ticks, so splitting changes nothing).
+Runs are seen by wrapping each runtime's ``_finish`` on the instance (the scheduler calls it
+after every run with the task and its outcome): that gives the fragment and the pc.
+
+Poses: per sample and module, the centre (mm) and the rotation since the start of each of its
+two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from sim.replay.sources import SourceIndex
+from vm.lattice.structure import Structure
+from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
+
+SAMPLE_HZ = 10.0
+MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
+MAX_EVENTS = 100_000
+MAX_PACKETS = 300_000
+PACKET_KINDS = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack"}
+CHANNELS = 11  # x, y, z, then the quaternions (x, y, z, w) of the PLUS and MINUS hemispheres
+
+
+@dataclass
+class Recording:
+    structure: Structure
+    sources: SourceIndex
+    duration: float
+    hz: float = SAMPLE_HZ
+    notes: list[str] = field(default_factory=list)
+    times: list[float] = field(default_factory=list)
+    rows: list[list[int]] = field(default_factory=list)  # one per sample: CHANNELS ints per module
+    events: list[list[Any]] = field(default_factory=list)  # [t, module, kind, fragment, pc, line, text]
+    packets: list[tuple[float, int, int, int, int, int, bool]] = field(default_factory=list)
+    world: str = ""
+    dropped_events: int = 0
+    dropped_packets: int = 0
+    runtimes: dict = field(default_factory=dict)
+    _sample: Callable[[], list[int]] | None = None
+    _first_runs: set = field(default_factory=set)
+    _last_command: dict = field(default_factory=dict)
+    _context: tuple[tuple[int, int] | None, int] | None = None
+
+    def __post_init__(self) -> None:
+        n = max(1, len(self.structure.modules))
+        wanted = self.duration * self.hz * n
+        if wanted > MAX_MODULE_SAMPLES:
+            self.hz = max(MAX_MODULE_SAMPLES / (self.duration * n), 1 / 60)
+            self.notes.append(f"long run: poses sampled every {1 / self.hz:.2g} s instead of "
+                              f"{1 / SAMPLE_HZ:g} s (at most {MAX_MODULE_SAMPLES:,} module samples)")
+
+    # ---- attaching -------------------------------------------------------------------------
+    def attach_physics(self, world: Any, runtimes: dict) -> None:
+        from sim.replay.poses import physics_sampler
+
+        self.world = "physics"
+        self._sample = physics_sampler(world, self.structure)
+        self._attach_runtimes(runtimes, lambda: world.time)
+        self._attach_network(world.network)
+        previous = world.on_detection
+
+        def detected(mid: int, k: int) -> None:
+            if previous is not None:
+                previous(mid, k)
+            self._event(world.time, mid, "sensor", None, -1, f"sensor {k} sees an obstacle")
+        world.on_detection = detected
+        self.sample(0.0)
+
+    def attach_lattice(self, world: Any) -> None:
+        from sim.replay.poses import lattice_sampler
+
+        self.world = "lattice"
+        self._sample = lattice_sampler(world, self.structure)
+        self._attach_runtimes(world.runtimes, world.now)
+        self._attach_network(world.network)
+        self.sample(0.0)
+
+    def sampled(self, advance: Callable[[float], None],
+                clock: Callable[[], float]) -> Callable[[float], None]:
+        """``advance`` in pieces of one sample interval, a sample after each."""
+        interval = 1.0 / self.hz
+
+        def run(duration: float) -> None:
+            end = clock() + duration
+            while clock() < end - 1e-9:
+                advance(min(interval, end - clock()))
+                self.sample(clock())
+        return run
+
+    def sample(self, t: float) -> None:
+        if self._sample is None:
+            return
+        if self.times and t - self.times[-1] < 0.5 / self.hz:
+            return
+        self.times.append(round(t, 3))
+        self.rows.append(self._sample())
+
+    # ---- hooks -----------------------------------------------------------------------------
+    def _attach_runtimes(self, runtimes: dict, clock: Callable[[], float]) -> None:
+        self.runtimes = runtimes
+        for mid, runtime in runtimes.items():
+            previous = runtime.on_event
+
+            def on_event(kind: str, detail: dict, mid: int = mid, runtime: Any = runtime,
+                         previous: Any = previous) -> None:
+                if previous is not None:
+                    previous(kind, detail)
+                self._vm_event(clock(), mid, runtime, kind, detail)
+            runtime.on_event = on_event
+            finish = runtime._finish
+
+            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish) -> None:
+                self._context = self._run_finished(clock(), mid, task, result)
+                try:
+                    finish(task, result)  # an error it reports is located at the run's pc
+                finally:
+                    self._context = None
+            runtime._finish = finished
+
+    def _attach_network(self, network: Any) -> None:
+        def on_send(now: float, source: int, target: int, physical: int, packet: bytes,
+                    dropped: bool) -> None:
+            if len(self.packets) >= MAX_PACKETS:
+                self.dropped_packets += 1
+                return
+            kind = packet[0] if packet else 0
+            self.packets.append((now, source, target, physical, len(packet), kind, dropped))
+        network.on_send = on_send
+
+    def _event(self, t: float, mid: int, kind: str, where: tuple[int, int] | None, line: int,
+               text: str) -> None:
+        if len(self.events) >= MAX_EVENTS:
+            self.dropped_events += 1
+            return
+        fragment, pc = where if where else (-1, -1)
+        self.events.append([round(t, 3), mid, kind, fragment, pc, line, text])
+
+    def _vm_event(self, t: float, mid: int, runtime: Any, kind: str, detail: dict) -> None:
+        where, line = None, -1
+        if kind == "handler":
+            k = int(detail.get("event", -1))
+            vec = runtime.store.vectors[k] if 0 <= k < len(runtime.store.vectors) else None
+            if vec is not None:
+                where, line = self.sources.locate(vec.slot.code, 0)
+            text = f"handler of event {k} fired"
+        elif kind == "role":
+            where, line = self._running_pc()
+            text = f"role set to {detail.get('name')}"
+        elif kind == "program":
+            slot = next((s for s in reversed(runtime.store.slots) if s.ident == detail.get("id")), None)
+            if slot is not None:
+                where, line = self.sources.locate(slot.code, 0)
+            name = self.sources.fragment_name(where)
+            text = f"fragment {name} received and stored ({detail.get('size')} bytes)"
+        elif kind == "command":
+            key = (detail.get("command"), detail.get("arg"))
+            if self._last_command.get(mid) == key:
+                return  # behaviours repeat the same command every tick: keep the changes
+            self._last_command[mid] = key
+            where, line = self._running_pc()
+            text = f"command {_command_name(detail.get('command'))} ({detail.get('arg')}) executed"
+        elif kind == "error":
+            where, line = self._running_pc()
+            text = f"error: {detail.get('message')}"
+        elif kind == "trace":
+            where, line = self._running_pc()
+            text = f"trace: {detail.get('text')}"
+        else:
+            text = f"{kind}: {detail}"
+        self._event(t, mid, kind, where, line, text)
+
+    def _running_pc(self) -> tuple[tuple[int, int] | None, int]:
+        """The fragment and pc of the program running now, if any: the interpreter's frame, found
+        on the Python stack (only for rare events: role changes, commands, errors)."""
+        from vm.interpreter import Frame
+
+        if self._context is not None:
+            return self._context
+        f = sys._getframe(2)
+        for _ in range(12):
+            if f is None:
+                break
+            frame = f.f_locals.get("frame")
+            if isinstance(frame, Frame):
+                return self.sources.locate(frame.code, max(0, frame.pc - 1))
+            f = f.f_back
+        return None, -1
+
+    def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int] | None:
+        slot = task.slot
+        if slot is None or task.frame is None:
+            return None
+        outcome = result.outcome.value
+        key = (mid, id(slot))
+        if outcome != "error" and key in self._first_runs:
+            return None  # repeating behaviours run every tick: their first run is the story
+        self._first_runs.add(key)
+        where, line = self.sources.locate(slot.code, max(0, task.frame.pc - 1))
+        name = self.sources.fragment_name(where)
+        pc = where[1] if where else -1
+        self._event(t, mid, "run", where, line, f"fragment {name} ran to pc {pc}: {outcome}")
+        return where, line
+
+    # ---- results ---------------------------------------------------------------------------
+    def stored_fragments(self) -> dict[int, list[str]]:
+        out = {}
+        for mid, runtime in self.runtimes.items():
+            out[mid] = [self.sources.fragment_name(self.sources.locate(s.code, 0)[0])
+                        for s in runtime.store.slots]
+        return out
+
+    def finish_notes(self) -> list[str]:
+        notes = list(self.notes)
+        if self.dropped_events:
+            notes.append(f"{self.dropped_events:,} events after the first {MAX_EVENTS:,} are not shown")
+        if self.dropped_packets:
+            notes.append(f"{self.dropped_packets:,} packets after the first {MAX_PACKETS:,} are not shown")
+        return notes
+
+
+def _command_name(command: Any) -> str:
+    from vm.isa.opcodes import ROTATE_CCW, ROTATE_CW, ROTATE_DEGREES, ROTATE_TO, STOP, USER_COMMAND_BASE
+
+    names = {ROTATE_CW: "rotate clockwise", ROTATE_CCW: "rotate counter-clockwise", STOP: "stop",
+             ROTATE_DEGREES: "rotate by", ROTATE_TO: "rotate to"}
+    if isinstance(command, int) and command >= USER_COMMAND_BASE:
+        return f"user command {command - USER_COMMAND_BASE}"
+    return names.get(command, str(command))
+
+
+def quantise_quaternion(q: tuple[float, float, float, float]) -> list[int]:
+    x, y, z, w = q
+    if w < 0:  # q and -q are one rotation: keep w >= 0 so deltas stay small
+        x, y, z, w = -x, -y, -z, -w
+    n = math.sqrt(x * x + y * y + z * z + w * w) or 1.0
+    return [round(c / n * 32767) for c in (x, y, z, w)]
