@@ -86,14 +86,16 @@ export function embeddedPolicy(policy: Policy, nonce: string, cspSource: string)
 
 const TABS_STYLE = `
 :root { --rdcd-tabs-height: 30px; }
+body { padding: 0; } /* the webview's default style pads the body; the replay fills the panel */
 #rdcd-tabs { box-sizing: border-box; height: var(--rdcd-tabs-height); display: flex; align-items: stretch; gap: 2px; padding: 0 8px;
   font: 13px var(--vscode-font-family, system-ui, sans-serif); color: var(--vscode-foreground, #ccc);
   background: var(--vscode-editorGroupHeader-tabsBackground, #252526); border-bottom: 1px solid var(--vscode-panel-border, #8884); }
 #rdcd-tabs input { position: absolute; opacity: 0; width: 1px; height: 1px; margin: 0; }
-#rdcd-tabs label { display: flex; align-items: center; padding: 0 12px; cursor: pointer; border-bottom: 2px solid transparent; }
+#rdcd-tabs label { display: flex; align-items: center; padding: 0 12px; cursor: pointer; border-bottom: 2px solid transparent; white-space: nowrap; }
 #rdcd-tabs input:checked + label { border-bottom-color: var(--vscode-focusBorder, #0078d4); font-weight: 600; }
 #rdcd-tabs input:focus-visible + label { outline: 1px solid var(--vscode-focusBorder, #0078d4); outline-offset: -1px; }
-#rdcd-tabs .rdcd-hint { margin-left: auto; align-self: center; opacity: 0.7; font-size: 12px; }
+#rdcd-tabs .rdcd-hint { margin-left: auto; align-self: center; opacity: 0.7; font-size: 12px; min-width: 0;
+  white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
 .rr-root { height: calc(100vh - var(--rdcd-tabs-height)) !important; }
 #rdcd-report { display: none; position: fixed; top: var(--rdcd-tabs-height); left: 0; right: 0; bottom: 0; overflow: auto; z-index: 10;
   background: var(--vscode-editor-background, #1e1e1e); }
