@@ -94,7 +94,7 @@ describe("renderReplayHtml", () => {
     assert.match(body, /<td>Axle_entry<\/td><td>40<\/td>/);
     assert.match(head, /body:has\(#rdcd-tab-report:checked\) #rdcd-report \{ display: block; \}/);
     assert.match(head, /#rdcd-report table/, "the report's rules are scoped to it");
-    assert.doesNotMatch(head, /\nbody \{/, "no rule of the report reaches the replay");
+    assert.doesNotMatch(head, /\n(body \{ font-family|h1 \{|h2 \{|table \{|pre \{|th, td \{)/, "no rule of the report reaches the replay");
   });
 
   it("escapes the file name and the report", () => {
