@@ -8,18 +8,22 @@ import * as fs from "node:fs/promises";
 import * as path from "node:path";
 import { isRecord, parseSimulateResult, type SimulationReport } from "./simulateArgs";
 
-export interface SavedRun {
-  /** The simulated document. */
-  readonly uri: string;
-  readonly replayPath: string | null;
-  readonly plotPath: string | null;
-  readonly report: SimulationReport;
-}
-
 export interface RunFiles {
   readonly replayPath: string | null;
   readonly plotPath: string | null;
   readonly report: SimulationReport;
+  /** sourceHash() of the simulated text: the replay's lines are the lines of that text. */
+  readonly sourceHash: string;
+}
+
+export interface SavedRun extends RunFiles {
+  /** The simulated document. */
+  readonly uri: string;
+}
+
+/** A short digest of a program's text (to tell whether the document changed since its run). */
+export function sourceHash(text: string): string {
+  return createHash("sha256").update(text, "utf8").digest("hex").slice(0, 32);
 }
 
 const RUN = "run.json";
@@ -65,7 +69,13 @@ export class ReplayStore {
     if (files.plotPath !== null && plotPath !== null) {
       await writeAtomically(plotPath, await fs.readFile(files.plotPath));
     }
-    const run = { uri, report: files.report, plotPath: plotPath !== null ? PLOT : null, replayPath: replayPath !== null ? REPLAY : null };
+    const run = {
+      uri,
+      sourceHash: files.sourceHash,
+      report: files.report,
+      plotPath: plotPath !== null ? PLOT : null,
+      replayPath: replayPath !== null ? REPLAY : null,
+    };
     await writeAtomically(path.join(folder, RUN), JSON.stringify(run));
     for (const [stale, kept] of [[REPLAY, replayPath], [PLOT, plotPath]] as const) {
       if (kept === null) {
@@ -73,7 +83,7 @@ export class ReplayStore {
       }
     }
     await this.prune(folder);
-    return { uri, replayPath, plotPath, report: files.report };
+    return { uri, replayPath, plotPath, report: files.report, sourceHash: files.sourceHash };
   }
 
   /** The document's last run, or undefined when there is none (or it is unreadable). */
@@ -85,9 +95,10 @@ export class ReplayStore {
     } catch {
       return undefined;
     }
-    if (!isRecord(run) || run["uri"] !== uri) {
+    if (!isRecord(run) || run["uri"] !== uri || typeof run["sourceHash"] !== "string") {
       return undefined;
     }
+    const hash = run["sourceHash"];
     const file = (name: unknown, expected: string) => (name === expected ? path.join(folder, expected) : null);
     try {
       const parsed = parseSimulateResult({
@@ -100,7 +111,7 @@ export class ReplayStore {
           await fs.access(kept);
         }
       }
-      return { uri, ...parsed };
+      return { uri, ...parsed, sourceHash: hash };
     } catch {
       return undefined;
     }

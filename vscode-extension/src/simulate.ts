@@ -8,14 +8,14 @@ import * as path from "node:path";
 import * as vscode from "vscode";
 import { LANGUAGE_ID, type ServerManager } from "./client";
 import { renderReplayHtml, ReplayPageError, revealedLine } from "./replayHtml";
-import { ReplayStore, type SavedRun } from "./replayStore";
+import { ReplayStore, sourceHash, type SavedRun } from "./replayStore";
 import { renderErrorHtml, renderReportHtml } from "./reportHtml";
 import { buildSimulateArgs, isCancelledRequest, parseSimulateResult } from "./simulateArgs";
 
 export class SimulationView implements vscode.Disposable {
   private panel: vscode.WebviewPanel | undefined;
-  /** The document whose run the panel shows (the replay's lines are its lines). */
-  private shownUri: string | undefined;
+  /** The run the panel shows (the replay's lines are the lines of its document as simulated). */
+  private shown: SavedRun | undefined;
   private readonly store: ReplayStore;
 
   constructor(
@@ -49,6 +49,7 @@ export class SimulationView implements vscode.Disposable {
       packetLoss: settings.get("packetLoss"),
     });
     const fileName = path.basename(document.uri.fsPath || document.uri.path);
+    const simulated = document.getText(); // the server simulates the text the editor has
     let raw: unknown;
     try {
       raw = await vscode.window.withProgress(
@@ -66,7 +67,7 @@ export class SimulationView implements vscode.Disposable {
       }
       // the server's message is the first error, "file:line:column: error[CODE]: …", in one line
       const message = error instanceof Error ? error.message : String(error);
-      this.shownUri = undefined;
+      this.shown = undefined;
       this.show(fileName, [], false).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
       void vscode.window.showErrorMessage(`RDCD: simulation failed: ${message}`);
       return;
@@ -78,13 +79,14 @@ export class SimulationView implements vscode.Disposable {
       void vscode.window.showErrorMessage(`RDCD: ${error instanceof Error ? error.message : String(error)}`);
       return;
     }
+    const files = { ...result, sourceHash: sourceHash(simulated) };
     let run: SavedRun;
     try {
-      run = await this.store.save(document.uri.toString(), result);
+      run = await this.store.save(document.uri.toString(), files);
     } catch (error) {
       // shown from the server's files all the same; only Open Last Replay will not find it
       this.log(`could not keep the run for Open Last Replay: ${error instanceof Error ? error.message : String(error)}`);
-      run = { uri: document.uri.toString(), ...result };
+      run = { uri: document.uri.toString(), ...files };
     }
     await this.showRun(fileName, run);
   }
@@ -118,7 +120,7 @@ export class SimulationView implements vscode.Disposable {
     }
     const roots = [run.plotPath, run.replayPath].filter((file): file is string => file !== null).map((file) => path.dirname(file));
     const panel = this.show(fileName, roots, page !== undefined);
-    this.shownUri = run.uri;
+    this.shown = run;
     const plotSrc =
       run.plotPath === null
         ? undefined
@@ -141,14 +143,21 @@ export class SimulationView implements vscode.Disposable {
 
   /** A message from the replay: an event was clicked; its line is shown in the document's editor. */
   private async reveal(message: unknown): Promise<void> {
-    const uri = this.shownUri;
-    if (uri === undefined || revealedLine(message, Number.MAX_SAFE_INTEGER) === undefined) {
+    const run = this.shown;
+    if (run === undefined || revealedLine(message, Number.MAX_SAFE_INTEGER) === undefined) {
       return;
     }
+    const uri = run.uri;
     const document = await vscode.workspace.openTextDocument(vscode.Uri.parse(uri, true));
     const line = revealedLine(message, document.lineCount);
     if (line === undefined) {
       return;
+    }
+    if (sourceHash(document.getText()) !== run.sourceHash) {
+      vscode.window.setStatusBarMessage(
+        `$(warning) RDCD: ${path.basename(document.uri.fsPath || document.uri.path)} changed since this run; line ${line + 1} may have moved`,
+        8000,
+      );
     }
     const start = new vscode.Position(line, document.lineAt(line).firstNonWhitespaceCharacterIndex);
     const visible = vscode.window.visibleTextEditors.find((editor) => editor.document.uri.toString() === uri);
@@ -182,7 +191,7 @@ export class SimulationView implements vscode.Disposable {
       );
       panel.onDidDispose(() => {
         this.panel = undefined;
-        this.shownUri = undefined;
+        this.shown = undefined;
       });
       panel.webview.onDidReceiveMessage((message: unknown) => {
         this.reveal(message).catch((error: unknown) =>

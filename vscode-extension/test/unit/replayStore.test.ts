@@ -2,10 +2,11 @@ import * as assert from "node:assert/strict";
 import * as fs from "node:fs";
 import * as os from "node:os";
 import * as path from "node:path";
-import { ReplayStore, runFolderName } from "../../src/replayStore";
+import { ReplayStore, runFolderName, sourceHash } from "../../src/replayStore";
 import type { SimulationReport } from "../../src/simulateArgs";
 
 const report: SimulationReport = { config: "car7", modules: [{ id: 0, final_role: "Axle" }], fragments: [{ name: "f", size: 3 }] };
+const hash = sourceHash("role A { }\ndeployment { A }\n");
 
 describe("ReplayStore", () => {
   let root: string;
@@ -33,7 +34,7 @@ describe("ReplayStore", () => {
     const store = new ReplayStore(path.join(root, "replays"));
     const uri = "file:///work/a%20b/obstacle.rdcd";
     const files = serverFiles("one");
-    const saved = await store.save(uri, { ...files, report });
+    const saved = await store.save(uri, { ...files, report, sourceHash: hash });
     fs.rmSync(server, { recursive: true, force: true }); // the server exits and removes its folder
     const loaded = await store.load(uri);
     assert.deepEqual(loaded, saved);
@@ -47,12 +48,13 @@ describe("ReplayStore", () => {
   it("replaces the previous run of a document, also one without a plot", async () => {
     const store = new ReplayStore(root);
     const uri = "untitled:Untitled-1";
-    await store.save(uri, { ...serverFiles("first"), report });
-    const second = await store.save(uri, { replayPath: serverFiles("second").replayPath, plotPath: null, report: { ...report, config: "car11" } });
+    await store.save(uri, { ...serverFiles("first"), report, sourceHash: hash });
+    const second = await store.save(uri, { replayPath: serverFiles("second").replayPath, plotPath: null, report: { ...report, config: "car11" }, sourceHash: sourceHash("changed") });
     const loaded = await store.load(uri);
     assert.deepEqual(loaded, second);
     assert.equal(loaded.plotPath, null);
     assert.equal(loaded.report["config"], "car11");
+    assert.equal(loaded.sourceHash, sourceHash("changed"));
     assert.equal(fs.readFileSync(loaded.replayPath ?? "", "utf8"), "<!doctype html><title>second</title>");
     assert.ok(!fs.existsSync(path.join(store.folderOf(uri), "plot.png")), "the older plot is gone");
   });
@@ -61,23 +63,25 @@ describe("ReplayStore", () => {
     const store = new ReplayStore(root);
     assert.equal(await store.load("file:///never.rdcd"), undefined);
     const uri = "file:///damaged.rdcd";
-    await store.save(uri, { ...serverFiles("d"), report });
+    await store.save(uri, { ...serverFiles("d"), report, sourceHash: hash });
     fs.rmSync(path.join(store.folderOf(uri), "replay.html"));
     assert.equal(await store.load(uri), undefined);
-    await store.save(uri, { ...serverFiles("d"), report });
+    await store.save(uri, { ...serverFiles("d"), report, sourceHash: hash });
     fs.writeFileSync(path.join(store.folderOf(uri), "run.json"), "{not json");
     assert.equal(await store.load(uri), undefined);
     fs.writeFileSync(path.join(store.folderOf(uri), "run.json"), JSON.stringify({ uri: "file:///other.rdcd", report, replayPath: "replay.html", plotPath: null }));
     assert.equal(await store.load(uri), undefined, "a folder of another document (a hash collision) is not taken");
-    fs.writeFileSync(path.join(store.folderOf(uri), "run.json"), JSON.stringify({ uri, report, replayPath: "../../etc/passwd", plotPath: null }));
+    fs.writeFileSync(path.join(store.folderOf(uri), "run.json"), JSON.stringify({ uri, sourceHash: hash, report, replayPath: "../../etc/passwd", plotPath: null }));
     assert.equal((await store.load(uri))?.replayPath, null, "only its own file names count");
+    fs.writeFileSync(path.join(store.folderOf(uri), "run.json"), JSON.stringify({ uri, report, replayPath: null, plotPath: null }));
+    assert.equal(await store.load(uri), undefined, "a run without the hash of its text is not taken");
   });
 
   it("keeps the runs of at most `limit` documents, the newest", async () => {
     const store = new ReplayStore(root, 3);
     const uris = ["file:///1.rdcd", "file:///2.rdcd", "file:///3.rdcd", "file:///4.rdcd", "file:///5.rdcd"];
     for (const [index, uri] of uris.entries()) {
-      await store.save(uri, { ...serverFiles(String(index)), report });
+      await store.save(uri, { ...serverFiles(String(index)), report, sourceHash: hash });
       const time = new Date(Date.now() - (uris.length - index) * 10_000); // saved in this order
       fs.utimesSync(path.join(store.folderOf(uri), "run.json"), time, time);
     }
@@ -89,6 +93,12 @@ describe("ReplayStore", () => {
     }
     assert.deepEqual(kept, uris.slice(2));
     assert.equal(fs.readdirSync(root).length, 3);
+  });
+
+  it("tells texts apart by their hash", () => {
+    assert.match(hash, /^[0-9a-f]{32}$/);
+    assert.equal(sourceHash("role A { }\ndeployment { A }\n"), hash);
+    assert.notEqual(sourceHash("role A { }\ndeployment { A }\n "), hash);
   });
 
   it("names folders by a hash of the uri, the same for the same uri", () => {
