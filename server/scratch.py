@@ -2,9 +2,10 @@
 
 ``<tmp>/rdcd-lsp-<pid>-XXXX/`` holds a working folder per running simulation (removed when the
 simulation ends, however it ends) and the files the editor's result view shows, the plot and the
-replay page: the newest of each kind for each document (an older one of the same document is removed
-when a newer one arrives) and at most ``MAX_PLOTS`` of each kind in all. A server that was killed cannot remove its folder; the next server that
-simulates removes the folders of servers that no longer run.
+replay page: the newest of each kind for each document (an older one of the same document is
+removed when a newer one arrives) and at most ``MAX_PLOTS`` of each kind in all. A server that was
+killed cannot remove its folder; the next server that simulates removes the folders of servers that
+no longer run.
 """
 
 from __future__ import annotations

@@ -161,7 +161,7 @@ def test_success_keeps_only_the_plot_and_the_replay_and_replaces_them(sim: Simul
     second, second_replay = Path(second_result["plotPath"]), Path(second_result["replayPath"])
     assert second.is_file() and not first.exists()  # the newer plot of the same document replaces it
     assert second_replay.is_file() and not first_replay.exists()  # and so does the newer replay
-    assert Path(other["replayPath"]).is_file() and Path(other["plotPath"]).is_file()  # another document's stay
+    assert Path(other["replayPath"]).is_file() and Path(other["plotPath"]).is_file()  # another's stay
     assert not sim.leftovers()
 
 
