@@ -64,7 +64,8 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
                  "width": params.RING_WIDTH},
         "source": {"name": source_name, "lines": recording.sources.lines},
         "fragments": [{"name": f.name, "kind": f.kind, "role": f.role, "size": f.size,
-                       "lines": list(f.source)} for f in program.fragments],
+                       "lines": list(f.source), "pc_lines": [list(p) for p in f.source_lines]}
+                      for f in program.fragments],
         "events": recording.events,
         "poses": encode.poses(recording),
         "packets": encode.packets(recording),

@@ -6,7 +6,8 @@ each runtime's ``on_event`` (chained after the report's own recorder), the netwo
 the physics world's ``on_detection``, and the run loop, which it splits into sample intervals
 (``advance`` of both worlds is whole physics steps / VM ticks, so splitting changes nothing).
 Runs are seen by wrapping each runtime's ``_finish`` on the instance (the scheduler calls it
-after every run with the task and its outcome): that gives the fragment and the pc.
+after every run with the task and its outcome): that gives the fragment and the pc; commands a
+program sends, by wrapping its ``send_command`` (what the interpreter calls) the same way.
 
 Poses: per sample and module, the centre (mm) and the rotation since the start of each of its
 two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``).
@@ -23,6 +24,7 @@ from typing import Any
 from sim.replay.sources import SourceIndex
 from vm.lattice.structure import Structure
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
+from vm.roles import ANY_ROLE
 
 SAMPLE_HZ = 10.0
 MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
@@ -56,7 +58,8 @@ class Recording:
         n = max(1, len(self.structure.modules))
         wanted = self.duration * self.hz * n
         if wanted > MAX_MODULE_SAMPLES:
-            self.hz = max(MAX_MODULE_SAMPLES / (self.duration * n), 1 / 60)
+            # a whole number of 0.1-s intervals: whole physics steps and VM ticks, as before
+            self.hz = SAMPLE_HZ / math.ceil(wanted / MAX_MODULE_SAMPLES)
             self.notes.append(f"long run: poses sampled every {1 / self.hz:.2g} s instead of "
                               f"{1 / SAMPLE_HZ:g} s (at most {MAX_MODULE_SAMPLES:,} module samples)")
 
@@ -92,16 +95,18 @@ class Recording:
         interval = 1.0 / self.hz
 
         def run(duration: float) -> None:
-            end = clock() + duration
-            while clock() < end - 1e-9:
-                advance(min(interval, end - clock()))
+            done = 0.0  # counted like sim.run._chunks: a piece too short for one step still ends
+            while done < duration - 1e-9:
+                step = min(interval, duration - done)
+                advance(step)
+                done += step
                 self.sample(clock())
         return run
 
     def sample(self, t: float) -> None:
         if self._sample is None:
             return
-        if self.times and t - self.times[-1] < 0.5 / self.hz:
+        if self.times and round(t, 3) <= self.times[-1]:
             return
         self.times.append(round(t, 3))
         self.rows.append(self._sample())
@@ -118,7 +123,19 @@ class Recording:
                     previous(kind, detail)
                 self._vm_event(clock(), mid, runtime, kind, detail)
             runtime.on_event = on_event
-            finish = runtime._finish
+            send = getattr(runtime, "send_command", None)
+            if send is not None:  # what a program calls to send a command (vm.interpreter.Machine)
+                def send_command(role: int, command: int, arg: int, mid: int = mid, runtime: Any = runtime,
+                                 send: Any = send) -> None:
+                    where, line = self._running_pc()
+                    name = "any role" if role == ANY_ROLE else runtime.roles.name(role)
+                    self._event(clock(), mid, "send", where, line,
+                                f"sent {_command_name(command)} ({arg}) to {name}")
+                    send(role, command, arg)
+                runtime.send_command = send_command
+            finish = getattr(runtime, "_finish", None)
+            if finish is None:  # a runtime without the scheduler's finish step: no run events
+                continue
 
             def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish) -> None:
                 self._context = self._run_finished(clock(), mid, task, result)
@@ -216,9 +233,15 @@ class Recording:
     def stored_fragments(self) -> dict[int, list[str]]:
         out = {}
         for mid, runtime in self.runtimes.items():
-            out[mid] = [self.sources.fragment_name(self.sources.locate(s.code, 0)[0])
-                        for s in runtime.store.slots]
+            out[mid] = [self._slot_name(slot) for slot in runtime.store.slots]
         return out
+
+    def _slot_name(self, slot: Any) -> str:
+        """A stored slot as the user knows it: its fragment, and what part of it when a piece."""
+        where, _ = self.sources.locate(slot.code, 0)
+        name = self.sources.fragment_name(where)
+        kind = getattr(slot, "kind", "program")
+        return name if kind == "program" else f"{name} ({kind})"
 
     def finish_notes(self) -> list[str]:
         notes = list(self.notes)

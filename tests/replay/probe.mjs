@@ -76,6 +76,8 @@ try {
     out.error = await page.evaluate(() => window.rdcdReplay && window.rdcdReplay.error);
   }
   if (options.shot) {
+    if (options.follow) await page.evaluate(() => window.rdcdReplay.setFollow(true));
+    await page.evaluate(() => { const side = document.querySelector(".rr-side"); if (side) side.scrollTop = 0; });
     await page.evaluate((t) => window.rdcdReplay && window.rdcdReplay.seek && window.rdcdReplay.seek(t), options.shotTime ?? 0);
     await page.screenshot({ path: options.shot });
   }

@@ -64,10 +64,12 @@ def test_events_know_their_fragment_and_source_line() -> None:
     program = obstacle_program()
     lines = SOURCE.splitlines()
     kinds = {e[2] for e in recording.events}
-    assert {"program", "run", "role", "handler", "sensor", "command"} <= kinds
+    assert {"program", "run", "role", "handler", "sensor", "command", "send"} <= kinds
+    sends = [e for e in recording.events if e[2] == "send"]
+    assert all("Wheel.stop()" in lines[e[5] - 1] for e in sends)  # the handler sends stop to the wheels
     handlers = [e for e in recording.events if e[2] == "handler"]
     assert len(handlers) == report["obstacle_detections"]
-    for _, _, _, fragment, pc, line, _ in handlers:
+    for _, _, _, fragment, _, line, _ in handlers:
         assert "handleEvent" in lines[line - 1]
         assert program.fragments[fragment].source[0] <= line <= program.fragments[fragment].source[1]
     for _, _, _, fragment, _, line, text in (e for e in recording.events if e[2] == "program"):
@@ -126,3 +128,14 @@ def test_page_is_one_file_with_a_strict_policy() -> None:
     data = page_data(html)
     assert data["source"]["lines"] == SOURCE.split("\n")[:-1]
     assert [m["id"] for m in data["modules"]] == [m["id"] for m in report["modules"]]
+
+
+@pytest.mark.parametrize("world", ["lattice", "physics"])
+@pytest.mark.parametrize("duration", [0.01, 0.333])
+def test_short_odd_durations_end_and_match_the_plain_run(world: str, duration: float) -> None:
+    from sim.config import load_config
+
+    plain = simulate(obstacle_program(), load_config("car7"), Options(world=world, duration=duration))
+    recording, recorded = recorded_run(world, duration, obstacle="none")
+    assert _without_wall_time(recorded) == _without_wall_time(plain)
+    assert recording.times[0] == 0.0 and len(recording.times) >= 2

@@ -93,7 +93,8 @@ def test_the_report_is_the_same_with_and_without_a_replay(tmp_path: Path) -> Non
     import json
 
     rdcd("simulate", PROGRAM, *FAST, "--report", str(tmp_path / "a.json"))
-    rdcd("simulate", PROGRAM, *FAST, "--report", str(tmp_path / "b.json"), "--replay", str(tmp_path / "b.html"))
+    rdcd("simulate", PROGRAM, *FAST, "--report", str(tmp_path / "b.json"),
+         "--replay", str(tmp_path / "b.html"))
     a, b = (json.loads((tmp_path / n).read_text()) for n in ("a.json", "b.json"))
     for report in (a, b):
         report.pop("wall_time_s"), report.pop("real_time_factor")

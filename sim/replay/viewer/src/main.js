@@ -209,15 +209,17 @@ class Replay {
     const gl = this.scene.renderer.getContext();
     const pixel = new Uint8Array(4);
     const times = [];
+    const updates = [];
     for (let k = 0; k < count; k++) {
       const start = performance.now();
       this.scene.update(Math.min(this.duration, from + k * step));
+      updates.push(performance.now() - start);
       this.scene.render();
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel); // waits for the frame
       times.push(performance.now() - start);
     }
-    const sorted = [...times].sort((a, b) => a - b);
-    return { median: sorted[Math.floor(sorted.length / 2)], times };
+    const median = (values) => [...values].sort((a, b) => a - b)[Math.floor(values.length / 2)];
+    return { median: median(times), updateMedian: median(updates), times };
   }
 }
 

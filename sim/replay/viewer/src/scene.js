@@ -18,7 +18,7 @@ export class Scene {
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     container.appendChild(this.renderer.domElement);
     this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color(0xeef1f5);
+    this.scene.background = new THREE.Color(0xe9ecf0);
     this.camera = new THREE.PerspectiveCamera(45, 1, 0.01, 200);
     this.camera.up.set(0, 0, 1);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
@@ -38,15 +38,13 @@ export class Scene {
     this.#frameCamera();
   }
 
+  // the floor is the background colour under a grid: filling a floor plane cost software WebGL
+  // more than all the modules
   #ground() {
     const size = 12;
     const grid = new THREE.GridHelper(size, size * 5, 0xb0b8c4, 0xd4d9e0);
     grid.rotation.x = Math.PI / 2;
     this.scene.add(grid);
-    const plane = new THREE.Mesh(new THREE.PlaneGeometry(size, size),
-      new THREE.MeshLambertMaterial({ color: 0xf7f8fa }));
-    plane.position.z = -0.001;
-    this.scene.add(plane);
   }
 
   #obstacles() {
@@ -64,9 +62,10 @@ export class Scene {
     const data = this.rec.data;
     const r = data.module_radius;
     const m = data.modules.length;
-    const shell = new THREE.SphereGeometry(r, 24, 8, 0, Math.PI * 2, 0, Math.PI / 2);
-    const connector = new THREE.CylinderGeometry(r * 0.22, r * 0.22, r * 0.12, 10);
-    const ring = new THREE.TorusGeometry(data.ring.radius - data.ring.width / 4, data.ring.width / 2, 6, 28);
+    // few triangles: software WebGL (no GPU) must still draw 100 modules at 30 frames a second
+    const shell = new THREE.SphereGeometry(r, 16, 5, 0, Math.PI * 2, 0, Math.PI / 2);
+    const connector = new THREE.CircleGeometry(r * 0.24, 8).rotateX(-Math.PI / 2); // a disc facing +y
+    const ring = new THREE.TorusGeometry(data.ring.radius - data.ring.width / 4, data.ring.width / 2, 4, 20);
     this.shells = new THREE.InstancedMesh(shell, new THREE.MeshLambertMaterial({ color: 0xffffff }), 2 * m);
     this.darkConnectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0x333333 }), 4 * m);
     this.lightConnectors = new THREE.InstancedMesh(connector, new THREE.MeshLambertMaterial({ color: 0xf0f0f0 }), 4 * m);
@@ -94,7 +93,7 @@ export class Scene {
         for (let v = side > 0 ? 0 : 4; v < (side > 0 ? 4 : 8); v++) {
           const d = new THREE.Vector3(...module.connectors[v]);
           const q = new THREE.Quaternion().setFromUnitVectors(UP, d);
-          const local = new THREE.Matrix4().compose(d.clone().multiplyScalar(r * 0.97), q, one);
+          const local = new THREE.Matrix4().compose(d.clone().multiplyScalar(r * 1.003), q, one);
           parts.push(v % 2 === 0 ? { mesh: this.darkConnectors, index: dark++, local }
             : { mesh: this.lightConnectors, index: light++, local });
         }
@@ -158,7 +157,7 @@ export class Scene {
     const centre = new THREE.Vector3();
     for (const m of this.modules) centre.add(m.centre);
     centre.divideScalar(this.modules.length);
-    const span = Math.max(0.4, Math.sqrt(this.rec.m) * 0.12);
+    const span = Math.max(0.55, Math.sqrt(this.rec.m) * 0.14);
     this.controls.target.copy(centre);
     this.camera.position.set(centre.x - span * 1.6, centre.y - span * 2.2, centre.z + span * 1.8);
     this.controls.update();
