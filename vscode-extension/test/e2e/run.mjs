@@ -525,7 +525,8 @@ async function runChecks(page, url, workspace) {
     await panelTab.click();
     await panelTab.locator(".tab-actions .action-label").first().click();
     await panelTab.waitFor({ state: "detached", timeout: 10000 });
-    await openFile(page, "obstacle_avoidance.rdcd");
+    await page.locator('.tab[aria-label^="obstacle_avoidance.rdcd"]').first().click();
+    await page.locator('.tab.active[aria-label^="obstacle_avoidance.rdcd"]').first().waitFor({ timeout: 5000 });
     await runCommand(page, "RDCD: Restart Language Server");
     await serverRunning(page);
     await runCommand(page, "RDCD: Open Last Replay");
