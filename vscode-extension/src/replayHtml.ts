@@ -97,6 +97,7 @@ body { padding: 0; } /* the webview's default style pads the body; the replay fi
 #rdcd-tabs .rdcd-hint { margin-left: auto; align-self: center; opacity: 0.7; font-size: 12px; min-width: 0;
   white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
 .rr-root { height: calc(100vh - var(--rdcd-tabs-height)) !important; }
+@media (max-width: 760px) { .rr-root { grid-template-columns: 1fr 250px !important; } } /* a panel beside the editor */
 #rdcd-report { display: none; position: fixed; top: var(--rdcd-tabs-height); left: 0; right: 0; bottom: 0; overflow: auto; z-index: 10;
   background: var(--vscode-editor-background, #1e1e1e); }
 body:has(#rdcd-tab-report:checked) #rdcd-report { display: block; }
