@@ -104,7 +104,7 @@ def main() -> int:
             data_events = __import__("tests.replay.helpers", fromlist=["page_data"]).page_data(
                 car7.read_text(encoding="utf-8"))["events"]
             handler = next(i for i, e in enumerate(data_events) if e[2] == "handler")
-            probe(car7, width=1280, height=720, module=4, moduleTime=16.0, event=handler,
+            probe(car7, width=1280, height=900, module=4, moduleTime=16.0, event=handler,
                   shot=str(Path(args.screenshot).resolve()), shotTime=16.5, follow=True)
             print(f"screenshot: {args.screenshot}")
     return 0

@@ -58,13 +58,19 @@ def lattice_sampler(world: Any, structure: Structure) -> Callable[[], list[int]]
         pole = g.hemisphere_pole(spec.axis, south)
         fixed.append(([_mm(centre[0]), _mm(centre[1]), _mm(centre[2] + lift)], south, pole, world.hals[mid]))
 
+    parts: list[tuple[float, list[int]]] = [(math.nan, [])] * len(fixed)  # (angle, its 11 numbers)
+
     def sample() -> list[int]:
         row: list[int] = []
-        for centre, south, pole, hal in fixed:
-            half = math.radians(hal.joint_angle_deg()) / 2
-            s = math.sin(half)
-            turned = quantise_quaternion((pole[0] * s, pole[1] * s, pole[2] * s, math.cos(half)))
-            row += centre
-            row += (turned + IDENTITY) if south == g.PLUS else (IDENTITY + turned)
+        for i, (centre, south, pole, hal) in enumerate(fixed):
+            angle = hal.joint_angle_deg()
+            if parts[i][0] != angle:  # most joints stand still most of the time
+                half = math.radians(angle) / 2
+                s, c = math.sin(half) * 32767, math.cos(half) * 32767
+                if c < 0:  # as quantise_quaternion: w >= 0 (the pole is a unit axis, no need to normalise)
+                    s, c = -s, -c
+                turned = [round(pole[0] * s), round(pole[1] * s), round(pole[2] * s), round(c)]
+                parts[i] = (angle, centre + ((turned + IDENTITY) if south == g.PLUS else (IDENTITY + turned)))
+            row += parts[i][1]
         return row
     return sample

@@ -22,9 +22,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from sim.replay.sources import SourceIndex
+from vm.interpreter import Outcome
 from vm.lattice.structure import Structure
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
 from vm.roles import ANY_ROLE
+
+ERROR = Outcome.ERROR
 
 SAMPLE_HZ = 10.0
 MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
@@ -50,8 +53,8 @@ class Recording:
     dropped_packets: int = 0
     runtimes: dict = field(default_factory=dict)
     _sample: Callable[[], list[int]] | None = None
-    _first_runs: set = field(default_factory=set)
     _last_command: dict = field(default_factory=dict)
+    _origins: dict = field(default_factory=dict)  # (module, body bytes) -> fragment it was stored from
     _context: tuple[tuple[int, int] | None, int] | None = None
 
     def __post_init__(self) -> None:
@@ -121,23 +124,42 @@ class Recording:
                          previous: Any = previous) -> None:
                 if previous is not None:
                     previous(kind, detail)
+                if kind == "command":  # behaviours repeat the same command every tick: keep the changes
+                    key = (detail.get("command"), detail.get("arg"))
+                    if self._last_command.get(mid) == key:
+                        return
+                    self._last_command[mid] = key
                 self._vm_event(clock(), mid, runtime, kind, detail)
             runtime.on_event = on_event
             send = getattr(runtime, "send_command", None)
             if send is not None:  # what a program calls to send a command (vm.interpreter.Machine)
                 def send_command(role: int, command: int, arg: int, mid: int = mid, runtime: Any = runtime,
                                  send: Any = send) -> None:
-                    where, line = self._running_pc()
+                    where, line = self._running_pc(mid)
                     name = "any role" if role == ANY_ROLE else runtime.roles.name(role)
                     self._event(clock(), mid, "send", where, line,
                                 f"sent {_command_name(command)} ({arg}) to {name}")
                     send(role, command, arg)
                 runtime.send_command = send_command
+            for name in ("handle_event", "install_command"):  # Machine methods storing a body
+                method = getattr(runtime, name, None)
+                if method is not None:
+                    def install(*args: Any, mid: int = mid, method: Any = method) -> None:
+                        self._installed(mid, args[-1])
+                        method(*args)
+                    setattr(runtime, name, install)
             finish = getattr(runtime, "_finish", None)
             if finish is None:  # a runtime without the scheduler's finish step: no run events
                 continue
 
-            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish) -> None:
+            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish,
+                         ran: set[int] = set()) -> None:  # noqa: B006 - one set per module, on purpose
+                slot = task.slot
+                # fast path: repeating behaviours run every tick; their first run is the story
+                if slot is None or task.frame is None or (id(slot) in ran and result.outcome is not ERROR):
+                    finish(task, result)
+                    return
+                ran.add(id(slot))
                 self._context = self._run_finished(clock(), mid, task, result)
                 try:
                     finish(task, result)  # an error it reports is located at the run's pc
@@ -169,76 +191,65 @@ class Recording:
             k = int(detail.get("event", -1))
             vec = runtime.store.vectors[k] if 0 <= k < len(runtime.store.vectors) else None
             if vec is not None:
-                where, line = self.sources.locate(vec.slot.code, 0)
+                where, line = self._locate(mid, vec.slot.code, 0)
             text = f"handler of event {k} fired"
         elif kind == "role":
-            where, line = self._running_pc()
+            where, line = self._running_pc(mid)
             text = f"role set to {detail.get('name')}"
         elif kind == "program":
             slot = next((s for s in reversed(runtime.store.slots) if s.ident == detail.get("id")), None)
             if slot is not None:
-                where, line = self.sources.locate(slot.code, 0)
+                where, line = self._locate(mid, slot.code, 0)
             name = self.sources.fragment_name(where)
             text = f"fragment {name} received and stored ({detail.get('size')} bytes)"
         elif kind == "command":
-            key = (detail.get("command"), detail.get("arg"))
-            if self._last_command.get(mid) == key:
-                return  # behaviours repeat the same command every tick: keep the changes
-            self._last_command[mid] = key
-            where, line = self._running_pc()
+            where, line = self._running_pc(mid)
             text = f"command {_command_name(detail.get('command'))} ({detail.get('arg')}) executed"
         elif kind == "error":
-            where, line = self._running_pc()
+            where, line = self._running_pc(mid)
             text = f"error: {detail.get('message')}"
         elif kind == "trace":
-            where, line = self._running_pc()
+            where, line = self._running_pc(mid)
             text = f"trace: {detail.get('text')}"
         else:
             text = f"{kind}: {detail}"
         self._event(t, mid, kind, where, line, text)
 
-    def _running_pc(self) -> tuple[tuple[int, int] | None, int]:
-        """The fragment and pc of the program running now, if any: the interpreter's frame, found
-        on the Python stack (only for rare events: role changes, commands, errors)."""
-        from vm.interpreter import Frame
-
+    def _running_pc(self, mid: int) -> tuple[tuple[int, int] | None, int]:
+        """The fragment and pc of the program running now on module ``mid``, if any."""
         if self._context is not None:
             return self._context
-        f = sys._getframe(2)
-        for _ in range(12):
-            if f is None:
-                break
-            frame = f.f_locals.get("frame")
-            if isinstance(frame, Frame):
-                return self.sources.locate(frame.code, max(0, frame.pc - 1))
-            f = f.f_back
-        return None, -1
+        frame = _running_frame()
+        return self._locate(mid, frame.code, max(0, frame.pc - 1)) if frame else (None, -1)
 
-    def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int] | None:
-        slot = task.slot
-        if slot is None or task.frame is None:
-            return None
-        outcome = result.outcome.value
-        key = (mid, id(slot))
-        if outcome != "error" and key in self._first_runs:
-            return None  # repeating behaviours run every tick: their first run is the story
-        self._first_runs.add(key)
-        where, line = self.sources.locate(slot.code, max(0, task.frame.pc - 1))
+    def _locate(self, mid: int, code: bytes, pc: int) -> tuple[tuple[int, int] | None, int]:
+        return self.sources.locate(code, pc, self._origins.get((mid, bytes(code))))
+
+    def _installed(self, mid: int, code: bytes) -> None:
+        """A handler or command body stored by the program running now: remember its fragment."""
+        frame = _running_frame()
+        where = self._locate(mid, frame.code, 0)[0] if frame else None
+        if where is not None:
+            self._origins[(mid, bytes(code))] = where[0]
+
+    def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int]:
+        """A run event for the first run of a slot on a module, or a run that ended in an error."""
+        where, line = self._locate(mid, task.slot.code, max(0, task.frame.pc - 1))
         name = self.sources.fragment_name(where)
         pc = where[1] if where else -1
-        self._event(t, mid, "run", where, line, f"fragment {name} ran to pc {pc}: {outcome}")
+        self._event(t, mid, "run", where, line, f"fragment {name} ran to pc {pc}: {result.outcome.value}")
         return where, line
 
     # ---- results ---------------------------------------------------------------------------
     def stored_fragments(self) -> dict[int, list[str]]:
         out = {}
         for mid, runtime in self.runtimes.items():
-            out[mid] = [self._slot_name(slot) for slot in runtime.store.slots]
+            out[mid] = [self._slot_name(mid, slot) for slot in runtime.store.slots]
         return out
 
-    def _slot_name(self, slot: Any) -> str:
+    def _slot_name(self, mid: int, slot: Any) -> str:
         """A stored slot as the user knows it: its fragment, and what part of it when a piece."""
-        where, _ = self.sources.locate(slot.code, 0)
+        where, _ = self._locate(mid, slot.code, 0)
         name = self.sources.fragment_name(where)
         kind = getattr(slot, "kind", "program")
         return name if kind == "program" else f"{name} ({kind})"
@@ -250,6 +261,22 @@ class Recording:
         if self.dropped_packets:
             notes.append(f"{self.dropped_packets:,} packets after the first {MAX_PACKETS:,} are not shown")
         return notes
+
+
+def _running_frame() -> Any:
+    """The interpreter's frame of the program running now (rare events only: role changes,
+    commands, installs, errors), found on the Python stack; None outside a run."""
+    from vm.interpreter import Frame
+
+    f = sys._getframe(2)
+    for _ in range(12):
+        if f is None:
+            break
+        frame = f.f_locals.get("frame")
+        if isinstance(frame, Frame):
+            return frame
+        f = f.f_back
+    return None
 
 
 def _command_name(command: Any) -> str:

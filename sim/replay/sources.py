@@ -24,9 +24,12 @@ class SourceIndex:
             entries = sorted((e.offset, e.line) for e in fragment.source_map)
             self._maps.append(([o for o, _ in entries], [line for _, line in entries]))
 
-    def locate(self, code: bytes, pc: int) -> tuple[tuple[int, int] | None, int]:
-        """((fragment index, offset in it), source line or -1) of byte ``pc`` of ``code``."""
-        start = self._start(bytes(code))
+    def locate(self, code: bytes, pc: int, within: int | None = None) -> tuple[tuple[int, int] | None, int]:
+        """((fragment index, offset in it), source line or -1) of byte ``pc`` of ``code``.
+        ``within``: the fragment the code is known to come from (one body can lie in several)."""
+        code = bytes(code)
+        at = self.fragments[within].code.find(code) if within is not None and code else -1
+        start = (within, at) if at >= 0 else self.start(code)
         if start is None:
             return None, -1
         index, base = start
@@ -42,7 +45,7 @@ class SourceIndex:
     def fragment_name(self, where: tuple[int, int] | None) -> str:
         return self.fragments[where[0]].name if where else "?"
 
-    def _start(self, code: bytes) -> tuple[int, int] | None:
+    def start(self, code: bytes) -> tuple[int, int] | None:
         if code not in self._found:
             whole = next((i for i, f in enumerate(self.fragments) if f.code == code), None)
             found = (whole, 0) if whole is not None else None

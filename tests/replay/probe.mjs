@@ -53,7 +53,7 @@ try {
     }
     if (options.event !== undefined) {
       await page.evaluate(() => { window.rdcdReplay.seek(0); });
-      const selector = `.rr-events li[data-index="${options.event}"]`;
+      const selector = `.rr-side > .rr-events li[data-index="${options.event}"]`;
       if (!(await page.$(selector))) await page.evaluate((i) => window.rdcdReplay.seek(window.rdcdReplay.events()[i].t), options.event);
       await page.click(selector);
       out.sourcePanel = await page.evaluate(() => document.querySelector(".rr-source").textContent);

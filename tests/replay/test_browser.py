@@ -76,6 +76,7 @@ def test_clicking_a_module_shows_its_role_history(car7: tuple[Path, dict, dict])
     assert "lattice(" + ", ".join(map(str, module["lattice"])) + ")" in panel
     for t, role in module["role_history"]:
         assert f"{t:.2f} s → {role}" in panel
+    assert "Events (" in panel and f"m{module['id']} role set to {module['role_history'][0][1]}" in panel
 
 
 def test_clicking_the_detection_event_shows_the_handlers_source_line(car7: tuple[Path, dict, dict]) -> None:

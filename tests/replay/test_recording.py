@@ -139,3 +139,16 @@ def test_short_odd_durations_end_and_match_the_plain_run(world: str, duration: f
     recording, recorded = recorded_run(world, duration, obstacle="none")
     assert _without_wall_time(recorded) == _without_wall_time(plain)
     assert recording.times[0] == 0.0 and len(recording.times) >= 2
+
+
+def test_stored_slots_are_named_after_the_fragment_that_stored_them() -> None:
+    recording, _ = recorded_run("physics", 5.0)
+    program = obstacle_program()
+    names = recording.stored_fragments()
+    for mid, runtime in recording.runtimes.items():
+        assert len(names[mid]) == len(runtime.store.slots)
+        for name, slot in zip(names[mid], runtime.store.slots, strict=True):
+            fragment = program.fragment(name.split(" (")[0])
+            assert slot.code in fragment.code
+            assert name.endswith(f"({slot.kind})") or slot.kind == "program"
+    assert any(name.endswith("(handler)") for stored in names.values() for name in stored)

@@ -7,6 +7,7 @@ import { Scene } from "./scene.js";
 import { buildLayout, drawMarkers, el, fillLegend, formatTime } from "./ui.js";
 
 const EVENT_WINDOW = 1500; // event rows in the list at once (around the current time)
+const MODULE_EVENTS = 200; // event rows in a module's panel
 const vscode = typeof acquireVsCodeApi === "function" ? acquireVsCodeApi() : null; // eslint-disable-line no-undef
 
 class Replay {
@@ -50,10 +51,12 @@ class Replay {
       }
       down = null;
     });
-    ui.events.addEventListener("click", (e) => {
-      const row = e.target.closest("li[data-index]");
-      if (row) this.showEvent(Number(row.dataset.index));
-    });
+    for (const list of [ui.events, ui.modulePanel]) {
+      list.addEventListener("click", (e) => {
+        const row = e.target.closest("li[data-index]");
+        if (row) this.showEvent(Number(row.dataset.index));
+      });
+    }
     window.addEventListener("resize", () => this.resize());
     window.addEventListener("keydown", (e) => {
       if (e.key === " " && e.target === document.body) { e.preventDefault(); this.toggle(); }
@@ -127,8 +130,15 @@ class Replay {
     if (!module.role_history.length) history.append(el("li", "", "no role was ever set"));
     for (const [t, role] of module.role_history) history.append(el("li", "", `${formatTime(t)} → ${role ?? "none"}`));
     panel.append(history);
-    const own = this.data.events.filter((e) => e[1] === id).length;
-    panel.append(el("p", "rr-hint", `${own} events of this module (tick “only the selected module” to list them)`));
+    const own = [];
+    this.data.events.forEach((e, i) => { if (e[1] === id) own.push(i); });
+    panel.append(el("h3", "", `Events (${own.length})`));
+    const list = el("ol", "rr-events rr-module-events");
+    for (const i of own.slice(0, MODULE_EVENTS)) list.append(this.#eventRow(i));
+    panel.append(list);
+    if (own.length > MODULE_EVENTS) {
+      panel.append(el("p", "rr-hint", `the first ${MODULE_EVENTS}; tick “only the selected module” below for all`));
+    }
     this.#listEvents(true);
     return { id, lattice: module.lattice, roleHistory: module.role_history, fragments: module.fragments,
       text: panel.textContent };
@@ -149,19 +159,22 @@ class Replay {
     let count = 0;
     let i = only === null ? from : 0;
     for (; i < this.data.events.length && count < EVENT_WINDOW; i++) {
-      const [t, module, kind, , , line, text] = this.data.events[i];
-      if (only !== null && module !== only) continue;
-      const row = el("li");
-      row.dataset.index = String(i);
-      row.dataset.t = String(t);
-      row.append(el("span", "rr-time", `${t.toFixed(2)} `), el("span", "rr-kind", kind),
-        el("span", "", ` m${module} ${text}${line > 0 ? ` (line ${line})` : ""}`));
-      if (i === this.selectedEvent) row.classList.add("rr-selected");
-      list.append(row);
+      if (only !== null && this.data.events[i][1] !== only) continue;
+      list.append(this.#eventRow(i));
       count++;
     }
     this.listed = { from: only === null ? from : 0, to: i, module: only };
     this.#markPast(now, true);
+  }
+
+  #eventRow(i) {
+    const [t, module, kind, , , line, text] = this.data.events[i];
+    const row = el("li");
+    row.dataset.index = String(i);
+    row.append(el("span", "rr-time", `${t.toFixed(2)} `), el("span", "rr-kind", kind),
+      el("span", "", ` m${module} ${text}${line > 0 ? ` (line ${line})` : ""}`));
+    if (i === this.selectedEvent) row.classList.add("rr-selected");
+    return row;
   }
 
   #markPast(now, force = false) {
@@ -179,8 +192,8 @@ class Replay {
     if (!event) return null;
     const [t, module, kind, fragment, pc, line, text] = event;
     this.selectedEvent = index;
-    for (const row of this.ui.events.querySelectorAll(".rr-selected")) row.classList.remove("rr-selected");
-    this.ui.events.querySelector(`li[data-index="${index}"]`)?.classList.add("rr-selected");
+    for (const row of document.querySelectorAll(".rr-events .rr-selected")) row.classList.remove("rr-selected");
+    for (const row of document.querySelectorAll(`.rr-events li[data-index="${index}"]`)) row.classList.add("rr-selected");
     const panel = this.ui.sourcePanel;
     const where = fragment >= 0 ? `fragment ${this.data.fragments[fragment]?.name ?? "?"}, pc ${pc}` : "no fragment";
     panel.replaceChildren(el("h3", "", `${kind} at ${formatTime(t)} on module ${module}`), el("p", "", text),
