@@ -61,12 +61,13 @@ def checked_options(options: Any) -> dict[str, str]:
     return values
 
 
-def simulate_arguments(program: Path, options: dict[str, str], report: Path, plot: Path) -> list[str]:
+def simulate_arguments(program: Path, options: dict[str, str], report: Path, plot: Path,
+                       replay: Path) -> list[str]:
     argv = [sys.executable, "-m", "rdcd_core", "simulate", str(program)]
     for key, flag in OPTION_FLAGS.items():
         if key in options:
             argv.append(f"{flag}={options[key]}")  # one word: a value starting with '-' stays a value
-    return argv + [f"--report={report}", f"--plot={plot}"]
+    return argv + [f"--report={report}", f"--plot={plot}", f"--replay={replay}"]
 
 
 def child_environment() -> dict[str, str]:
@@ -164,6 +165,7 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
 async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work: Path,
                     shown: str) -> dict[str, Any]:
     program, report, plot = work / program_name(uri), work / "report.json", work / "plot.png"
+    replay = work / "replay.html"
     try:
         program.write_text(text, encoding="utf-8", errors="surrogatepass")  # the simulator refuses those
     except OSError as error:
@@ -174,7 +176,7 @@ async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work:
     await progress.begin("RDCD simulation", lambda: task.cancel() if task is not None else None)
     try:
         process = await asyncio.create_subprocess_exec(
-            *simulate_arguments(program, beside_document(uri, options), report, plot),
+            *simulate_arguments(program, beside_document(uri, options), report, plot, replay),
             stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
             cwd=str(work), env=child_environment())
     except (OSError, ValueError) as error:
@@ -204,9 +206,15 @@ async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work:
     except (OSError, ValueError) as error:
         progress.end("failed")
         raise RequestFailed(f"cannot read the simulation report: {error}") from None
-    kept = scratch.keep_plot(uri, plot) if plot.is_file() else None
+    try:  # the editor shows them after the working folder is gone
+        kept = scratch.keep(uri, "plot", plot) if plot.is_file() else None
+        kept_replay = scratch.keep(uri, "replay", replay) if replay.is_file() else None
+    except OSError as error:
+        progress.end("failed")
+        raise RequestFailed(f"cannot keep the simulation's files: {error}") from None
     progress.end("done")
-    return {"report": result, "plotPath": str(kept) if kept is not None else None}
+    return {"report": result, "plotPath": str(kept) if kept is not None else None,
+            "replayPath": str(kept_replay) if kept_replay is not None else None}
 
 
 def display_path(uri: str) -> str:

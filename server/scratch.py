@@ -1,10 +1,11 @@
 """The server's temporary files: one folder per server process, removed when the server ends.
 
 ``<tmp>/rdcd-lsp-<pid>-XXXX/`` holds a working folder per running simulation (removed when the
-simulation ends, however it ends) and the plots the editor's result view shows: the newest plot of
-each document (an older one of the same document is removed when a newer one arrives) and at most
-``MAX_PLOTS`` in all. A server that was killed cannot remove its folder; the next server that
-simulates removes the folders of servers that no longer run.
+simulation ends, however it ends) and the files the editor's result view shows, the plot and the
+replay page: the newest of each kind for each document (an older one of the same document is
+removed when a newer one arrives) and at most ``MAX_PLOTS`` of each kind in all. A server that was
+killed cannot remove its folder; the next server that simulates removes the folders of servers that
+no longer run.
 """
 
 from __future__ import annotations
@@ -24,7 +25,8 @@ MAX_PLOTS = 16
 _OURS = re.compile(re.escape(PREFIX) + r"(\d+)-")
 
 _folder: Path | None = None
-_plots: dict[str, Path] = {}  # document uri -> its newest plot, oldest first
+SUFFIXES = {"plot": ".png", "replay": ".html"}
+_kept: dict[str, dict[str, Path]] = {kind: {} for kind in SUFFIXES}  # kind -> document uri -> newest file
 
 
 def folder() -> Path:
@@ -32,7 +34,7 @@ def folder() -> Path:
     if _folder is None or not _folder.is_dir():
         _remove_orphans()
         _folder = Path(tempfile.mkdtemp(prefix=f"{PREFIX}{os.getpid()}-"))
-        _plots.clear()
+        _forget()
     return _folder
 
 
@@ -41,18 +43,25 @@ def work_folder() -> Path:
     return Path(tempfile.mkdtemp(prefix="run-", dir=folder()))
 
 
-def keep_plot(uri: str, plot: Path) -> Path:
-    """Moves ``plot`` out of a working folder; it stays until a newer plot of ``uri`` or the exit."""
-    target = folder() / f"plot-{uuid.uuid4().hex[:12]}.png"
-    os.replace(plot, target)
-    older = _plots.pop(uri, None)
+def keep(uri: str, kind: str, path: Path) -> Path:
+    """Moves ``path`` (a ``kind`` of SUFFIXES) out of a working folder; it stays until a newer file
+    of that kind of ``uri`` arrives or the server exits."""
+    target = folder() / f"{kind}-{uuid.uuid4().hex[:12]}{SUFFIXES[kind]}"
+    os.replace(path, target)
+    kept = _kept[kind]
+    older = kept.pop(uri, None)
     if older is not None:
         older.unlink(missing_ok=True)
-    _plots[uri] = target
-    while len(_plots) > MAX_PLOTS:
-        oldest = next(iter(_plots))
-        _plots.pop(oldest).unlink(missing_ok=True)
+    kept[uri] = target
+    while len(kept) > MAX_PLOTS:
+        oldest = next(iter(kept))
+        kept.pop(oldest).unlink(missing_ok=True)
     return target
+
+
+def _forget() -> None:
+    for kept in _kept.values():
+        kept.clear()
 
 
 def remove() -> None:
@@ -60,7 +69,7 @@ def remove() -> None:
     if _folder is not None:
         shutil.rmtree(_folder, ignore_errors=True)
     _folder = None
-    _plots.clear()
+    _forget()
 
 
 def _remove_orphans() -> None:

@@ -20,7 +20,7 @@ def simulate(lsp: Session, uri: str, options: dict) -> asyncio.Future:
     return asyncio.ensure_future(request, loop=lsp.loop)
 
 
-def test_simulate_returns_report_and_plot(lsp: Session) -> None:
+def test_simulate_returns_report_plot_and_replay(lsp: Session) -> None:
     uri = "file:///virtual/simulate.rdcd"
     lsp.open(uri, OBSTACLE)
     before = set(lsp.client.progress_reports)
@@ -28,6 +28,8 @@ def test_simulate_returns_report_and_plot(lsp: Session) -> None:
                                          "world": "lattice"}), timeout=120)
     assert isinstance(result["report"], dict) and result["report"]
     assert Path(result["plotPath"]).is_file()
+    replay = Path(result["replayPath"])
+    assert replay.is_file() and replay.read_bytes().startswith(b"<!doctype html>")
     json.dumps(result)
     tokens = set(lsp.client.progress_reports) - before
     assert tokens, "the simulation reports work done progress"

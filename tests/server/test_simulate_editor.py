@@ -46,11 +46,11 @@ class Simulating:
         return self.session.client._server.pid  # type: ignore[attr-defined]
 
     def leftovers(self) -> list[Path]:
-        """Anything of the server's in TMPDIR but the plots kept in its own folder."""
+        """Anything of the server's in TMPDIR but the plots and replays kept in its own folder."""
         found = [p for p in self.tmp.iterdir()
                  if p.name.startswith("rdcd") and not p.name.startswith("rdcd-lsp-")]
         for folder in self.server_folders():
-            found += [p for p in folder.iterdir() if not p.name.startswith("plot-")]
+            found += [p for p in folder.iterdir() if not p.name.startswith(("plot-", "replay-"))]
         return found
 
 
@@ -143,15 +143,25 @@ def test_a_document_uri_with_a_nul(sim: Simulating) -> None:
     assert not sim.leftovers()
 
 
-def test_success_keeps_only_the_plot_and_replaces_it(sim: Simulating) -> None:
+def test_success_keeps_only_the_plot_and_the_replay_and_replaces_them(sim: Simulating) -> None:
     uri, _ = user_file(sim, "plotted.rdcd", OBSTACLE)
-    first = Path(sim.run(uri, QUICK)["plotPath"])
+    result = sim.run(uri, QUICK)
+    first, first_replay = Path(result["plotPath"]), Path(result["replayPath"])
     assert first.is_file() and first.parent in sim.server_folders()
+    assert first_replay.is_file() and first_replay.parent == first.parent and first_replay.suffix == ".html"
+    page = first_replay.read_text(encoding="utf-8")
+    assert "Content-Security-Policy" in page and "rdcd-replay-data" in page  # the simulator's replay page
+    assert "plotted.rdcd" in page  # of the user's file (the copy the simulator ran has its name)
     assert not sim.leftovers()  # the program copy, the report and the working folder are gone
     assert not (sim.tmp / f"rdcd-lsp-{DEAD_PID}-orphan").exists(), "a killed server's folder is removed"
     assert (sim.tmp / f"rdcd-lsp-{os.getpid()}-alive").exists(), "a running server's folder is kept"
-    second = Path(sim.run(uri, QUICK)["plotPath"])
+    other_uri, _ = user_file(sim, "other.rdcd", OBSTACLE)
+    other = sim.run(other_uri, QUICK)
+    second_result = sim.run(uri, QUICK)
+    second, second_replay = Path(second_result["plotPath"]), Path(second_result["replayPath"])
     assert second.is_file() and not first.exists()  # the newer plot of the same document replaces it
+    assert second_replay.is_file() and not first_replay.exists()  # and so does the newer replay
+    assert Path(other["replayPath"]).is_file() and Path(other["plotPath"]).is_file()  # another's stay
     assert not sim.leftovers()
 
 

@@ -10,7 +10,8 @@ let manager: ServerManager | undefined;
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   const server = new ServerManager();
   manager = server;
-  const simulation = new SimulationView(server);
+  const storage = (context.storageUri ?? context.globalStorageUri).fsPath;
+  const simulation = new SimulationView(server, storage, (message) => server.outputChannel.appendLine(message));
   const bytecode = new BytecodeProvider(server);
   context.subscriptions.push(
     server,
@@ -20,6 +21,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     vscode.commands.registerCommand("rdcd.simulateCurrentFile", (resource?: vscode.Uri) =>
       simulation.simulateCurrentFile(resource),
     ),
+    vscode.commands.registerCommand("rdcd.openLastReplay", (resource?: vscode.Uri) => simulation.openLastReplay(resource)),
     vscode.commands.registerCommand("rdcd.viewBytecode", (resource?: vscode.Uri) => bytecode.show(resource)),
     vscode.commands.registerCommand("rdcd.restartServer", () => server.restart()),
     vscode.commands.registerCommand("rdcd.showServerOutput", () => server.outputChannel.show()),

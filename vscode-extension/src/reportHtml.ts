@@ -112,14 +112,9 @@ export function shorten(value: unknown, limit = 20): unknown {
   return value;
 }
 
-/** The whole HTML page of the result view (no scripts; images only from the webview source). */
-export function renderReportHtml(view: ReportView): string {
+/** The sections of the result view: the plot, the summary, the roles, the fragments, the raw report. */
+export function reportSections(view: Pick<ReportView, "report" | "plotSrc">): string {
   const { report } = view;
-  const csp = [
-    "default-src 'none'",
-    `img-src ${view.cspSource} data:`,
-    `style-src ${view.cspSource} 'unsafe-inline'`,
-  ].join("; ");
   const sections: string[] = [];
 
   sections.push(
@@ -159,7 +154,27 @@ export function renderReportHtml(view: ReportView): string {
       JSON.stringify(shorten(report), null, 2),
     )}</pre></details></section>`,
   );
+  return sections.join("\n");
+}
 
+/** The report's style sheet, its rules scoped to the element `scope` (a selector). */
+export function reportStyle(scope: string): string {
+  return `${scope} { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 1em 2em; }
+${scope} h1 { font-size: 1.4em; } ${scope} h2 { font-size: 1.15em; margin-top: 1.4em; } ${scope} h3 { font-size: 1em; }
+${scope} table { border-collapse: collapse; margin: 0.4em 0; }
+${scope} th, ${scope} td { text-align: left; padding: 0.2em 0.8em 0.2em 0; border-bottom: 1px solid var(--vscode-panel-border, #8884); vertical-align: top; }
+${scope} table.summary thead { display: none; }
+${scope} img#trajectory { max-width: 100%; background: white; border: 1px solid var(--vscode-panel-border, #8884); }
+${scope} pre { white-space: pre-wrap; font-family: var(--vscode-editor-font-family); font-size: 0.9em; }`;
+}
+
+/** The whole HTML page of the result view (no scripts; images only from the webview source). */
+export function renderReportHtml(view: ReportView): string {
+  const csp = [
+    "default-src 'none'",
+    `img-src ${view.cspSource} data:`,
+    `style-src ${view.cspSource} 'unsafe-inline'`,
+  ].join("; ");
   return `<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -168,18 +183,12 @@ export function renderReportHtml(view: ReportView): string {
 <meta name="viewport" content="width=device-width, initial-scale=1.0">
 <title>RDCD simulation: ${escapeHtml(view.fileName)}</title>
 <style>
-body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 1em 2em; }
-h1 { font-size: 1.4em; } h2 { font-size: 1.15em; margin-top: 1.4em; } h3 { font-size: 1em; }
-table { border-collapse: collapse; margin: 0.4em 0; }
-th, td { text-align: left; padding: 0.2em 0.8em 0.2em 0; border-bottom: 1px solid var(--vscode-panel-border, #8884); vertical-align: top; }
-table.summary thead { display: none; }
-img#trajectory { max-width: 100%; background: white; border: 1px solid var(--vscode-panel-border, #8884); }
-pre { white-space: pre-wrap; font-family: var(--vscode-editor-font-family); font-size: 0.9em; }
+${reportStyle("body")}
 </style>
 </head>
 <body>
 <h1>RDCD simulation: ${escapeHtml(view.fileName)}</h1>
-${sections.join("\n")}
+${reportSections(view)}
 </body>
 </html>
 `;

@@ -1,14 +1,30 @@
-// RDCD: Simulate Current File — runs the server's rdcd.simulate and shows the result view.
+// RDCD: Simulate Current File — runs the server's rdcd.simulate and shows the result view: the
+// replay (clicking an event reveals its line in the editor) with the summary and the plot in a
+// second tab. RDCD: Open Last Replay shows a document's last run again (kept in the extension's
+// storage by ReplayStore).
+import { randomBytes } from "node:crypto";
+import * as fs from "node:fs/promises";
 import * as path from "node:path";
 import * as vscode from "vscode";
 import { LANGUAGE_ID, type ServerManager } from "./client";
+import { renderReplayHtml, ReplayPageError, revealedLine } from "./replayHtml";
+import { ReplayStore, sourceHash, type SavedRun } from "./replayStore";
 import { renderErrorHtml, renderReportHtml } from "./reportHtml";
 import { buildSimulateArgs, isCancelledRequest, parseSimulateResult } from "./simulateArgs";
 
 export class SimulationView implements vscode.Disposable {
   private panel: vscode.WebviewPanel | undefined;
+  /** The run the panel shows (the replay's lines are the lines of its document as simulated). */
+  private shown: SavedRun | undefined;
+  private readonly store: ReplayStore;
 
-  constructor(private readonly server: ServerManager) {}
+  constructor(
+    private readonly server: ServerManager,
+    storageRoot: string,
+    private readonly log: (message: string) => void,
+  ) {
+    this.store = new ReplayStore(path.join(storageRoot, "replays"));
+  }
 
   async simulateCurrentFile(resource?: vscode.Uri): Promise<void> {
     if (!vscode.workspace.isTrusted) {
@@ -34,6 +50,7 @@ export class SimulationView implements vscode.Disposable {
       vm: settings.get("vm"),
     });
     const fileName = path.basename(document.uri.fsPath || document.uri.path);
+    const simulated = document.getText(); // the server simulates the text the editor has
     let raw: unknown;
     try {
       raw = await vscode.window.withProgress(
@@ -51,7 +68,8 @@ export class SimulationView implements vscode.Disposable {
       }
       // the server's message is the first error, "file:line:column: error[CODE]: …", in one line
       const message = error instanceof Error ? error.message : String(error);
-      this.show(fileName, null).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
+      this.shown = undefined;
+      this.show(fileName, [], false).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
       void vscode.window.showErrorMessage(`RDCD: simulation failed: ${message}`);
       return;
     }
@@ -62,17 +80,95 @@ export class SimulationView implements vscode.Disposable {
       void vscode.window.showErrorMessage(`RDCD: ${error instanceof Error ? error.message : String(error)}`);
       return;
     }
-    const panel = this.show(fileName, result.plotPath);
+    const files = { ...result, sourceHash: sourceHash(simulated) };
+    let run: SavedRun;
+    try {
+      run = await this.store.save(document.uri.toString(), files);
+    } catch (error) {
+      // shown from the server's files all the same; only Open Last Replay will not find it
+      this.log(`could not keep the run for Open Last Replay: ${error instanceof Error ? error.message : String(error)}`);
+      run = { uri: document.uri.toString(), ...files };
+    }
+    await this.showRun(fileName, run);
+  }
+
+  /** RDCD: Open Last Replay: the last run of the current .rdcd file, as its simulation showed it. */
+  async openLastReplay(resource?: vscode.Uri): Promise<void> {
+    const document = await this.targetDocument(resource);
+    if (document === undefined) {
+      void vscode.window.showWarningMessage("RDCD: open an .rdcd file to see its last replay.");
+      return;
+    }
+    const fileName = path.basename(document.uri.fsPath || document.uri.path);
+    const run = await this.store.load(document.uri.toString());
+    if (run === undefined || run.replayPath === null) {
+      void vscode.window.showInformationMessage(
+        `RDCD: ${fileName} has no replay yet; run "RDCD: Simulate Current File" to make one.`,
+      );
+      return;
+    }
+    await this.showRun(fileName, run);
+  }
+
+  private async showRun(fileName: string, run: SavedRun): Promise<void> {
+    let page: string | undefined;
+    if (run.replayPath !== null) {
+      try {
+        page = await fs.readFile(run.replayPath, "utf8");
+      } catch (error) {
+        void vscode.window.showWarningMessage(`RDCD: cannot read the replay: ${error instanceof Error ? error.message : String(error)}`);
+      }
+    }
+    const roots = [run.plotPath, run.replayPath].filter((file): file is string => file !== null).map((file) => path.dirname(file));
+    const panel = this.show(fileName, roots, page !== undefined);
+    this.shown = run;
     const plotSrc =
-      result.plotPath === null
+      run.plotPath === null
         ? undefined
-        : panel.webview.asWebviewUri(vscode.Uri.file(result.plotPath)).with({ query: `t=${Date.now()}` }).toString();
-    panel.webview.html = renderReportHtml({
-      report: result.report,
-      plotSrc,
-      cspSource: panel.webview.cspSource,
-      fileName,
+        : panel.webview.asWebviewUri(vscode.Uri.file(run.plotPath)).with({ query: `t=${Date.now()}` }).toString();
+    const view = { report: run.report, plotSrc, cspSource: panel.webview.cspSource, fileName };
+    if (page !== undefined) {
+      try {
+        panel.webview.html = renderReplayHtml({ ...view, page, nonce: randomBytes(18).toString("base64") });
+        return;
+      } catch (error) {
+        if (!(error instanceof ReplayPageError)) {
+          throw error;
+        }
+        void vscode.window.showWarningMessage(`RDCD: the replay is not shown: ${error.message}`);
+        panel.webview.options = { enableScripts: false, localResourceRoots: panel.webview.options.localResourceRoots ?? [] };
+      }
+    }
+    panel.webview.html = renderReportHtml(view);
+  }
+
+  /** A message from the replay: an event was clicked; its line is shown in the document's editor. */
+  private async reveal(message: unknown): Promise<void> {
+    const run = this.shown;
+    if (run === undefined || revealedLine(message, Number.MAX_SAFE_INTEGER) === undefined) {
+      return;
+    }
+    const uri = run.uri;
+    const document = await vscode.workspace.openTextDocument(vscode.Uri.parse(uri, true));
+    const line = revealedLine(message, document.lineCount);
+    if (line === undefined) {
+      return;
+    }
+    if (sourceHash(document.getText()) !== run.sourceHash) {
+      vscode.window.setStatusBarMessage(
+        `$(warning) RDCD: ${path.basename(document.uri.fsPath || document.uri.path)} changed since this run; line ${line + 1} may have moved`,
+        8000,
+      );
+    }
+    const start = new vscode.Position(line, document.lineAt(line).firstNonWhitespaceCharacterIndex);
+    const visible = vscode.window.visibleTextEditors.find((editor) => editor.document.uri.toString() === uri);
+    const column = visible?.viewColumn ?? (this.panel?.viewColumn === vscode.ViewColumn.One ? vscode.ViewColumn.Two : vscode.ViewColumn.One);
+    const editor = await vscode.window.showTextDocument(document, {
+      viewColumn: column,
+      preserveFocus: false,
+      selection: new vscode.Range(start, start),
     });
+    editor.revealRange(new vscode.Range(start, start), vscode.TextEditorRevealType.InCenterIfOutsideViewport);
   }
 
   private async targetDocument(resource?: vscode.Uri): Promise<vscode.TextDocument | undefined> {
@@ -84,21 +180,29 @@ export class SimulationView implements vscode.Disposable {
     return document?.languageId === LANGUAGE_ID ? document : undefined;
   }
 
-  private show(fileName: string, plotPath: string | null): vscode.WebviewPanel {
-    const roots = plotPath === null ? [] : [vscode.Uri.file(path.dirname(plotPath))];
+  private show(fileName: string, folders: readonly string[], scripts: boolean): vscode.WebviewPanel {
+    const roots = folders.map((folder) => vscode.Uri.file(folder));
     if (this.panel === undefined) {
-      this.panel = vscode.window.createWebviewPanel(
+      const panel = vscode.window.createWebviewPanel(
         "rdcd.simulation",
         `Simulation: ${fileName}`,
         { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true },
-        { enableScripts: false, enableFindWidget: true, localResourceRoots: roots },
+        // the replay keeps its time and camera while the panel is hidden
+        { enableScripts: scripts, enableFindWidget: true, localResourceRoots: roots, retainContextWhenHidden: true },
       );
-      this.panel.onDidDispose(() => {
+      panel.onDidDispose(() => {
         this.panel = undefined;
+        this.shown = undefined;
       });
+      panel.webview.onDidReceiveMessage((message: unknown) => {
+        this.reveal(message).catch((error: unknown) =>
+          this.log(`could not reveal the line: ${error instanceof Error ? error.message : String(error)}`),
+        );
+      });
+      this.panel = panel;
     } else {
       this.panel.title = `Simulation: ${fileName}`;
-      this.panel.webview.options = { enableScripts: false, localResourceRoots: roots };
+      this.panel.webview.options = { enableScripts: scripts, localResourceRoots: roots };
       this.panel.reveal(undefined, true);
     }
     return this.panel;

@@ -116,6 +116,8 @@ export interface SimulateResult {
   readonly report: SimulationReport;
   /** The trajectory plot, or null when the simulation drew none. */
   readonly plotPath: string | null;
+  /** The replay page (`rdcd simulate --replay`), or null when the server gave none (an older server). */
+  readonly replayPath: string | null;
 }
 
 function isModule(value: unknown): value is ReportModule {
@@ -130,15 +132,23 @@ function isListOf<T>(value: unknown, isItem: (item: unknown) => item is T): valu
   return Array.isArray(value) && (value as unknown[]).every(isItem);
 }
 
-/** Reads the server's answer `{report, plotPath}`; throws when it is something else. */
+/** Reads the server's answer `{report, plotPath, replayPath?}`; throws when it is something else. */
 export function parseSimulateResult(value: unknown): SimulateResult {
   if (!isRecord(value) || !isRecord(value["report"])) {
     throw new Error("The language server returned no simulation report.");
   }
   const { report, plotPath } = value;
+  const replayPath = value["replayPath"] ?? null; // absent from servers before the replay
   const { modules, fragments } = report;
-  if (!isListOf(modules, isModule) || !isListOf(fragments, isFragment) || (plotPath !== null && typeof plotPath !== "string")) {
-    throw new Error("The language server returned a simulation result that is not {report: {modules, fragments, …}, plotPath}.");
+  if (
+    !isListOf(modules, isModule) ||
+    !isListOf(fragments, isFragment) ||
+    (plotPath !== null && typeof plotPath !== "string") ||
+    (replayPath !== null && typeof replayPath !== "string")
+  ) {
+    throw new Error(
+      "The language server returned a simulation result that is not {report: {modules, fragments, …}, plotPath, replayPath}.",
+    );
   }
-  return { report: { ...report, modules, fragments }, plotPath };
+  return { report: { ...report, modules, fragments }, plotPath, replayPath };
 }

@@ -23,7 +23,7 @@ const cacheHome = process.env.XDG_CACHE_HOME ?? path.join(os.homedir(), ".cache"
 const e2eDir = path.resolve(process.env.RDCD_E2E_DIR ?? path.join(cacheHome, "rdcd-e2e"));
 const artifacts = path.join(extensionDir, "test-artifacts");
 const vsix = path.join(extensionDir, "rdcd-0.1.0.vsix");
-const TOTAL_BUDGET_MS = 7.5 * 60 * 1000;
+const TOTAL_BUDGET_MS = 9 * 60 * 1000;
 const started = Date.now();
 
 const results = [];
@@ -459,13 +459,16 @@ async function runChecks(page, url, workspace) {
     await shot(page, "simulate-progress");
     const tab = page.locator('.tab[aria-label*="Simulation: obstacle_avoidance.rdcd"]').first();
     await tab.waitFor({ state: "visible", timeout: 240000 });
-    const view = page.frameLocator("iframe.webview.ready").last().frameLocator("iframe#active-frame");
-    await view.locator("h1").waitFor({ state: "visible", timeout: 30000 });
+    const view = simulationView(page);
+    const replay = await replayReady(view);
     const failed = await view.locator("p.error").count();
     if (failed > 0) {
       throw new Error(`the result view shows a failure: ${await view.locator("body").innerText()}`);
     }
-    await view.locator("#roles table").waitFor({ timeout: 10000 });
+    await shot(page, "simulate-replay");
+    // the summary and the plot are in the second tab
+    await view.locator('label[for="rdcd-tab-report"]').click();
+    await view.locator("#roles table").waitFor({ state: "visible", timeout: 10000 });
     const width = await until("the plot image to load", async () => {
       const image = view.locator("img#trajectory");
       if ((await image.count()) === 0) {
@@ -476,8 +479,105 @@ async function runChecks(page, url, workspace) {
     }, { timeout: 20000 });
     const roles = await view.locator("#roles table tbody").innerText();
     const summary = await view.locator("#summary").innerText();
-    return `plot ${width}px wide; roles: ${roles.replace(/\s+/g, " ").slice(0, 100)}; ${summary.replace(/\s+/g, " ").slice(0, 100)}`;
+    await shot(page, "simulate-summary-tab");
+    await view.locator('label[for="rdcd-tab-replay"]').click();
+    await view.locator(".rr-view canvas").waitFor({ state: "visible", timeout: 10000 });
+    const consoleCheck = checkConsole();
+    return `replay of ${replay.modules} modules over ${replay.duration} s, ${replay.events} events; ${consoleCheck}; ` +
+      `plot ${width}px wide; roles: ${roles.replace(/\s+/g, " ").slice(0, 80)}; ${summary.replace(/\s+/g, " ").slice(0, 80)}`;
   });
+
+  await step(page, "replay-event-reveals-line", async () => {
+    const view = simulationView(page);
+    await replayReady(view);
+    // an event of the list that has a source line away from the cursor's line
+    // the cursor first at 1:1 in the program's editor, the panel still beside it
+    await page.locator('.tab[aria-label^="obstacle_avoidance.rdcd"]').first().click();
+    await page.locator(".monaco-editor textarea").first().focus();
+    await goTo(page, 1, 1);
+    const before = await page.locator("#status\\.editor\\.selection").innerText();
+    const cursorLine = 1;
+    const rows = view.locator(".rr-events li[data-index]");
+    await rows.first().waitFor({ state: "visible", timeout: 10000 });
+    const texts = await rows.allInnerTexts();
+    // a handler's line if the run has one (the detection), else any line but the cursor's
+    const candidates = texts.map((text, index) => ({ index, text, line: Number(/\(line (\d+)\)/.exec(text)?.[1] ?? 0) }))
+      .filter((row) => row.line > 0 && row.line !== cursorLine);
+    const chosen = candidates.find((row) => /handler/.test(row.text)) ?? candidates[0];
+    if (chosen === undefined) {
+      throw new Error(`no event with a source line in ${texts.length} rows: ${texts.slice(0, 5).join(" | ")}`);
+    }
+    await rows.nth(chosen.index).click();
+    await view.locator(".rr-source .rr-line-ref").waitFor({ state: "visible", timeout: 10000 });
+    await until(`the editor's cursor on line ${chosen.line}`, async () => {
+      const position = await page.locator("#status\\.editor\\.selection").innerText().catch(() => "");
+      return position.includes(`Ln ${chosen.line},`);
+    }, { timeout: 15000 });
+    await page.locator('.tab.active[aria-label^="obstacle_avoidance.rdcd"]').first().waitFor({ timeout: 5000 });
+    const shown = (await page.locator(".monaco-editor .view-overlays .current-line").count()) > 0;
+    return `cursor was at "${before}"; clicked "${chosen.text.replace(/\s+/g, " ").slice(0, 80)}"; ` +
+      `cursor on line ${chosen.line}${shown ? ", line highlighted" : ""}`;
+  });
+
+  await step(page, "open-last-replay", async () => {
+    // close the panel and restart the server (it removes its temporary files): the replay is the kept copy
+    const panelTab = page.locator('.tab[aria-label*="Simulation: obstacle_avoidance.rdcd"]').first();
+    await panelTab.click();
+    await panelTab.locator(".tab-actions .action-label").first().click();
+    await panelTab.waitFor({ state: "detached", timeout: 10000 });
+    await page.locator('.tab[aria-label^="obstacle_avoidance.rdcd"]').first().click();
+    await page.locator('.tab.active[aria-label^="obstacle_avoidance.rdcd"]').first().waitFor({ timeout: 5000 });
+    await runCommand(page, "RDCD: Restart Language Server");
+    await serverRunning(page);
+    await runCommand(page, "RDCD: Open Last Replay");
+    await page.locator('.tab[aria-label*="Simulation: obstacle_avoidance.rdcd"]').first().waitFor({ state: "visible", timeout: 30000 });
+    const replay = await replayReady(simulationView(page));
+    for (const message of webviewConsole) {
+      log(`  webview console: ${message.slice(0, 200)}`);
+    }
+    return `reopened after a server restart: ${replay.modules} modules, ${replay.events} events; ${checkConsole()}`;
+  });
+}
+
+/** Console messages of the policy blocking something, anywhere in the page and its frames. */
+const policyViolations = [];
+/** Console messages from webviews, and their errors. */
+const webviewConsole = [];
+const webviewErrors = [];
+
+function checkConsole() {
+  if (policyViolations.length > 0) {
+    throw new Error(`the policy blocked something: ${policyViolations.join(" | ")}`);
+  }
+  if (webviewErrors.length > 0) {
+    throw new Error(`errors in the webview's console: ${webviewErrors.join(" | ")}`);
+  }
+  return `${webviewConsole.length} webview console message(s), no error, nothing blocked by the policy`;
+}
+
+/** The Simulate panel's document (a webview: an iframe holding the active frame). */
+function simulationView(page) {
+  return page.frameLocator("iframe.webview.ready").last().frameLocator("iframe#active-frame");
+}
+
+/** Waits for the replay in the panel to start; its figures from the test hook window.rdcdReplay. */
+async function replayReady(view) {
+  const html = view.locator("html");
+  const state = await until("the replay to start", async () => {
+    const value = await html.getAttribute("data-replay-ready", { timeout: 2000 }).catch(() => null);
+    return value === "true" || value === "error" ? value : undefined;
+  }, { timeout: 60000 });
+  /* global window -- the callback runs in the webview */
+  const hook = await html.evaluate(() => {
+    const replay = window.rdcdReplay;
+    return replay && replay.ready
+      ? { ready: true, modules: replay.modules.length, duration: replay.duration, events: replay.events().length }
+      : { ready: false, error: replay?.error };
+  });
+  if (state !== "true" || !hook.ready) {
+    throw new Error(`the replay did not start: ${hook.error ?? state}`);
+  }
+  return hook;
 }
 
 /** The last step: a server path that does not exist gives one error with a button to the setting. */
@@ -546,6 +646,20 @@ async function main() {
       ],
     });
     const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    page.on("console", (message) => {
+      const where = message.location().url;
+      const text = `${where}: ${message.text().slice(0, 300)}`;
+      if (/Content.Security.Policy|Refused to/i.test(message.text())) {
+        log(`  console (policy): ${text}`);
+        policyViolations.push(text);
+      } else if (/\/webview\//.test(where)) {
+        webviewConsole.push(`${message.type()} ${message.text().slice(0, 200)} (${where.split("?")[0]})`);
+        if (message.type() === "error") {
+          log(`  console (webview error): ${text}`);
+          webviewErrors.push(text);
+        }
+      }
+    });
     page.setDefaultTimeout(20000);
     await runChecks(page, codeServer.url, dirs.workspace);
     if (process.argv.includes("--docs-screenshot")) {

@@ -59,7 +59,7 @@ describe("package.json", () => {
       assert.ok(settings.includes(name), name);
     }
     const commands = manifest.contributes.commands.map((item) => item.command);
-    for (const name of ["rdcd.simulateCurrentFile", "rdcd.viewBytecode", "rdcd.restartServer"]) {
+    for (const name of ["rdcd.simulateCurrentFile", "rdcd.openLastReplay", "rdcd.viewBytecode", "rdcd.restartServer"]) {
       assert.ok(commands.includes(name), name);
     }
     for (const items of Object.values(manifest.contributes.menus)) {
@@ -67,6 +67,8 @@ describe("package.json", () => {
         assert.ok(commands.includes(item.command), `menu entry for unknown command ${item.command}`);
       }
     }
+    const palette = manifest.contributes.menus["commandPalette"] ?? [];
+    assert.equal(palette.find((item) => item.command === "rdcd.openLastReplay")?.when, "editorLangId == rdcd");
     const run = manifest.contributes.menus["editor/title/run"]?.[0];
     assert.equal(run?.command, "rdcd.simulateCurrentFile");
   });

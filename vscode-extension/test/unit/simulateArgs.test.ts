@@ -42,12 +42,22 @@ describe("buildSimulateArgs", () => {
 describe("parseSimulateResult", () => {
   const report = { config: "car7", modules: [{ id: 0, final_role: null, lattice: [0, 0, 0] }], fragments: [{ name: "f", size: 3 }] };
 
-  it("reads {report, plotPath}", () => {
-    assert.deepEqual(parseSimulateResult({ report, plotPath: "/tmp/p.png" }), { report, plotPath: "/tmp/p.png" });
+  it("reads {report, plotPath, replayPath}", () => {
+    assert.deepEqual(parseSimulateResult({ report, plotPath: "/tmp/p.png", replayPath: "/tmp/r.html" }), {
+      report,
+      plotPath: "/tmp/p.png",
+      replayPath: "/tmp/r.html",
+    });
   });
 
-  it("reads a missing plot as null", () => {
-    assert.deepEqual(parseSimulateResult({ report, plotPath: null }), { report, plotPath: null });
+  it("reads a missing plot and replay as null (a server before the replay sends no replayPath)", () => {
+    assert.deepEqual(parseSimulateResult({ report, plotPath: null, replayPath: null }), { report, plotPath: null, replayPath: null });
+    assert.deepEqual(parseSimulateResult({ report, plotPath: "/p.png" }), { report, plotPath: "/p.png", replayPath: null });
+  });
+
+  it("rejects a replay path that is not a string", () => {
+    assert.throws(() => parseSimulateResult({ report, plotPath: null, replayPath: 3 }), /replayPath/);
+    assert.throws(() => parseSimulateResult({ report, plotPath: null, replayPath: ["/r.html"] }), /replayPath/);
   });
 
   it("rejects an answer without a report", () => {
