@@ -37,7 +37,9 @@ def local_cluster(workers: int) -> Any:
     redirects file descriptors process-wide, so threads would not help."""
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+    # No dashboard: its task stream keeps a record of every task (up to 100,000), so the driver,
+    # which holds a local cluster's scheduler, would grow with the number of runs.
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                         silence_logs=logging.ERROR)
 
 
