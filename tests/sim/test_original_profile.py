@@ -121,10 +121,10 @@ def test_cli_vm_defaults_and_refuses_unknown_profiles(tmp_path: Path) -> None:
 
 def test_the_server_passes_the_vm_profile_on() -> None:
     options = {"world": "lattice", "vm": "original", "target": "default"}
-    argv = simulate_arguments(Path("p.rdcd"), options, Path("r.json"), Path("p.png"))
+    argv = simulate_arguments(Path("p.rdcd"), options, Path("r.json"), Path("p.png"), Path("r.html"))
     assert "--vm=original" in argv and "--target=default" in argv  # --flag=value: no value is a flag
-    assert not any(a.startswith("--vm") for a in simulate_arguments(Path("p.rdcd"), {}, Path("r.json"),
-                                                                      Path("p.png")))
+    plain = simulate_arguments(Path("p.rdcd"), {}, Path("r.json"), Path("p.png"), Path("r.html"))
+    assert not any(a.startswith("--vm") for a in plain)
 
 
 def test_simulate_refuses_an_unknown_profile() -> None:
