@@ -23,7 +23,7 @@ class Context:
     inlining: list[str] = field(default_factory=list)
     inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
-    cache: dict[tuple[str, int], object] = field(default_factory=dict)  # per-compilation memo
+    cache: dict[tuple, object] = field(default_factory=dict)  # per-compilation memo
 
     def report(self, code: str, span: Span, message: str) -> None:
         if not any(d.code == code and d.span == span for d in self.diagnostics):

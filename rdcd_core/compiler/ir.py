@@ -26,6 +26,9 @@ class Label:
 @dataclass(eq=False, slots=True)
 class Body:
     code: list[Item] = field(default_factory=list)
+    # set by the peephole optimiser once ``code`` is final; layout then keeps its bytes
+    optimised: bool = False
+    assembled: tuple | None = None
 
 
 @dataclass(slots=True)
@@ -33,6 +36,7 @@ class Ins:
     op: str
     args: tuple = ()
     span: Span | None = None
+    _key: tuple | None = field(default=None, init=False, repr=False, compare=False)
 
     @property
     def size(self) -> int:
@@ -50,7 +54,9 @@ class Ins:
 
     def key(self) -> tuple:
         """Identity of the instruction for comparisons (labels and bodies by identity)."""
-        return (self.op, tuple(id(a) if isinstance(a, (Label, Body)) else a for a in self.args))
+        if self._key is None:  # an instruction is never changed, only replaced
+            self._key = (self.op, tuple(id(a) if isinstance(a, (Label, Body)) else a for a in self.args))
+        return self._key
 
 
 Item = Union[Ins, Label]
@@ -63,11 +69,13 @@ def code_size(code: list[Item]) -> int:
 
 
 def bodies_of(code: list[Item]) -> list[Body]:
-    found: list[Body] = []
+    found: dict[int, Body] = {}  # by identity, in order of first use
     for item in code:
         if isinstance(item, Ins):
-            found.extend(a for a in item.args if isinstance(a, Body) and a not in found)
-    return found
+            for arg in item.args:
+                if isinstance(arg, Body):
+                    found.setdefault(id(arg), arg)
+    return list(found.values())
 
 
 def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]]) -> bytes:

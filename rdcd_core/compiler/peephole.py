@@ -17,47 +17,87 @@ COORD_OPS = {"COORD_X": "X", "COORD_Y": "Y", "COORD_Z": "Z"}
 MIRROR_CMP = {"GREATER": "LESSER", "LESSER": "GREATER"}
 
 
+MAX_ROUNDS = 50
+
+
 def optimise(code: list[Item]) -> list[Item]:
+    """The code after the passes have run to a fixed point (at most MAX_ROUNDS rounds).
+
+    Each body is optimised once and marked: the planner measures the same bodies in many trial
+    fragments, and optimising one again would change nothing. (A body with thousands of shared
+    tails may use up its rounds; they are a budget per body, so the result does not depend on how
+    often the planner measured it.)
+    """
     for body in bodies_of(code):
-        body.code[:] = optimise(body.code)
-    for _ in range(50):
-        before = [item.key() if isinstance(item, Ins) else id(item) for item in code]
+        if not body.optimised:
+            body.code[:] = optimise(body.code)
+            body.optimised = True
+    before = _keys(code)
+    for _ in range(MAX_ROUNDS):
         code = _fuse(code)
         code = _drop_dead(code)
         code = _skip_over_goto(code)
         code = _thread(code)
         code = merge_tails(code)
-        if before == [item.key() if isinstance(item, Ins) else id(item) for item in code]:
+        after = _keys(code)
+        if before == after:
             break
+        before = after
     return code
+
+
+def _keys(code: list[Item]) -> list[object]:
+    return [item.key() if isinstance(item, Ins) else id(item) for item in code]
 
 
 def _referenced(code: list[Item]) -> set[int]:
     return {id(item.args[0]) for item in code if isinstance(item, Ins) and item.op in JUMPS}
 
 
-def _first_ins(code: list[Item], label: Label) -> int | None:
-    start = next(i for i, item in enumerate(code) if item is label)
-    for index in range(start, len(code)):
-        if isinstance(code[index], Ins):
-            return index
-    return None
+class _Places:
+    """Where labels lead in a code list whose items may be replaced but not moved: every query in
+    constant time (scanning for a label made each pass quadratic in the length of the code)."""
+
+    def __init__(self, code: list[Item]) -> None:
+        # index of the first instruction at or after each position (len(code): none)
+        self.next_ins = [len(code)] * (len(code) + 1)
+        self.first: dict[int, int] = {}  # id(label) -> next_ins of its first occurrence
+        self.runs: dict[int, set[int]] = {}  # id(label) -> next_ins of each occurrence
+        following = len(code)
+        for index in range(len(code) - 1, -1, -1):
+            item = code[index]
+            if isinstance(item, Label):
+                self.first[id(item)] = following
+                self.runs.setdefault(id(item), set()).add(following)
+            else:
+                following = index
+            self.next_ins[index] = following
+
+    def first_ins(self, code: list[Item], label: Label) -> int | None:
+        """The first instruction at or after ``label`` (None: none, or no such label)."""
+        index = self.first.get(id(label), len(code))
+        return index if index < len(code) else None
+
+    def falls_to(self, index: int, label: Label) -> bool:
+        """Only labels stand between the instruction at ``index`` and ``label``."""
+        return self.next_ins[index + 1] in self.runs.get(id(label), ())
 
 
 def _thread(code: list[Item]) -> list[Item]:
     code = list(code)
+    places = _Places(code)  # instructions are replaced in place here, never moved
     for index, item in enumerate(code):
         if not isinstance(item, Ins) or item.op not in JUMPS:
             continue
         for _ in range(8):
-            dest_index = _first_ins(code, item.args[0])
+            dest_index = places.first_ins(code, item.args[0])
             if dest_index is None:
                 break
             dest = code[dest_index]
             if dest.op == "GOTO" and dest.args[0] is not item.args[0]:
                 item = Ins(item.op, (dest.args[0],), item.span)
             elif (item.op == "GOTO" and dest.ends_flow and dest.size == 1
-                  and not _falls_to(code, index, item.args[0])):
+                  and not places.falls_to(index, item.args[0])):
                 item = Ins(dest.op, (), dest.span)
                 break
             else:
@@ -80,30 +120,19 @@ def _drop_dead(code: list[Item]) -> list[Item]:
             result.append(item)
             dead = item.ends_flow
     # a GOTO to the very next instruction
-    cleaned: list[Item] = []
-    for index, item in enumerate(result):
-        if isinstance(item, Ins) and item.op == "GOTO" and _falls_to(result, index, item.args[0]):
-            continue
-        cleaned.append(item)
-    return cleaned
-
-
-def _falls_to(code: list[Item], index: int, label: Label) -> bool:
-    for item in code[index + 1:]:
-        if item is label:
-            return True
-        if isinstance(item, Ins):
-            return False
-    return False
+    places = _Places(result)
+    return [item for index, item in enumerate(result)
+            if not (isinstance(item, Ins) and item.op == "GOTO" and places.falls_to(index, item.args[0]))]
 
 
 def _skip_over_goto(code: list[Item]) -> list[Item]:
     """IF_X L1; GOTO L2; L1:  ->  IF_notX L2; L1:"""
     result = list(code)
+    places = _Places(result)  # a replaced pair stays two instructions (the second a NOP) until the end
     for index in range(len(result) - 2):
         first, second = result[index], result[index + 1]
         if (isinstance(first, Ins) and first.op in COND_JUMPS and isinstance(second, Ins)
-                and second.op == "GOTO" and _falls_to(result, index + 1, first.args[0])):
+                and second.op == "GOTO" and places.falls_to(index + 1, first.args[0])):
             result[index] = Ins(FLIP[first.op], second.args, first.span)
             result[index + 1] = Ins("NOP")
     return [item for item in result if not (isinstance(item, Ins) and item.op == "NOP")]
@@ -119,9 +148,11 @@ def _fuse(code: list[Item]) -> list[Item]:
 
 def _fuse_tail(out: list[Item]) -> None:
     """Rewrites the last two or three instructions of ``out`` when a pattern matches."""
-    if len(out) < 2 or not all(isinstance(i, Ins) for i in out[-2:]):
+    if len(out) < 2:
         return
     a, b = out[-2], out[-1]
+    if not (isinstance(a, Ins) and isinstance(b, Ins)):
+        return
     span = a.span or b.span
     if a.op == "EQUALS_0" and b.op in COND_JUMPS:
         out[-2:] = [Ins(FLIP[b.op], b.args, b.span)]
