@@ -42,11 +42,11 @@ class Ins:
     def size(self) -> int:
         if self.op == "PUSH":
             return 1 if 0 <= self.args[0] <= 127 else 2
-        return BY_NAME[self.op].size
+        return _SIZES[self.op]
 
     @property
     def ends_flow(self) -> bool:
-        return self.op != "PUSH" and BY_NAME[self.op].no_fallthrough
+        return self.op in _ENDS_FLOW
 
     @property
     def target(self) -> Label | None:
@@ -59,6 +59,8 @@ class Ins:
         return self._key
 
 
+_SIZES = {name: instruction.size for name, instruction in BY_NAME.items()}  # read for every pass
+_ENDS_FLOW = frozenset(name for name, instruction in BY_NAME.items() if instruction.no_fallthrough)
 Item = Union[Ins, Label]
 JUMPS = {"GOTO", "IF_FALSE_GOTO", "IF_TRUE_GOTO"}
 COND_JUMPS = {"IF_FALSE_GOTO", "IF_TRUE_GOTO"}

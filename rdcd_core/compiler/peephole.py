@@ -15,6 +15,7 @@ PURE_PUSH = {"PUSH", "COORD_X", "COORD_Y", "COORD_Z", "CONNECTED", "CONNECTED_SI
              "CENTER_POSITION_EW", "CENTER_POSITION_NS", "CENTER_POSITION_UD", *ROLE_DIRECTION_OPS.values()}
 COORD_OPS = {"COORD_X": "X", "COORD_Y": "Y", "COORD_Z": "Z"}
 MIRROR_CMP = {"GREATER": "LESSER", "LESSER": "GREATER"}
+FUSED_LAST = {*COND_JUMPS, "SIZEOF", "EQUALS", *MIRROR_CMP}  # the last instruction of every pattern
 
 
 MAX_ROUNDS = 50
@@ -54,50 +55,54 @@ def _referenced(code: list[Item]) -> set[int]:
     return {id(item.args[0]) for item in code if isinstance(item, Ins) and item.op in JUMPS}
 
 
-class _Places:
-    """Where labels lead in a code list whose items may be replaced but not moved: every query in
-    constant time (scanning for a label made each pass quadratic in the length of the code)."""
+def _falls_to(code: list[Item], index: int, label: Label) -> bool:
+    """Only labels stand between the instruction at ``index`` and ``label``. (Scans the labels
+    right after ``index`` only: each run of labels follows one instruction, so a pass that asks
+    this for each of its instructions stays linear. Slicing the rest of the code made it quadratic.)"""
+    for position in range(index + 1, len(code)):
+        item = code[position]
+        if item is label:
+            return True
+        if isinstance(item, Ins):
+            return False
+    return False
+
+
+class _Targets:
+    """The first instruction at or after each label, in a code list whose instructions may be
+    replaced but not moved (searching the whole code for each jump made threading quadratic)."""
 
     def __init__(self, code: list[Item]) -> None:
-        # index of the first instruction at or after each position (len(code): none)
-        self.next_ins = [len(code)] * (len(code) + 1)
-        self.first: dict[int, int] = {}  # id(label) -> next_ins of its first occurrence
-        self.runs: dict[int, set[int]] = {}  # id(label) -> next_ins of each occurrence
-        following = len(code)
-        for index in range(len(code) - 1, -1, -1):
-            item = code[index]
+        self.code = code
+        self.label_at: dict[int, int] = {}  # id(label) -> its first position
+        for index, item in enumerate(code):
             if isinstance(item, Label):
-                self.first[id(item)] = following
-                self.runs.setdefault(id(item), set()).add(following)
-            else:
-                following = index
-            self.next_ins[index] = following
+                self.label_at.setdefault(id(item), index)
+        self.found: dict[int, int | None] = {}
 
-    def first_ins(self, code: list[Item], label: Label) -> int | None:
-        """The first instruction at or after ``label`` (None: none, or no such label)."""
-        index = self.first.get(id(label), len(code))
-        return index if index < len(code) else None
-
-    def falls_to(self, index: int, label: Label) -> bool:
-        """Only labels stand between the instruction at ``index`` and ``label``."""
-        return self.next_ins[index + 1] in self.runs.get(id(label), ())
+    def first_ins(self, label: Label) -> int | None:
+        if id(label) not in self.found:
+            start = self.label_at.get(id(label), len(self.code))
+            self.found[id(label)] = next(
+                (i for i in range(start, len(self.code)) if isinstance(self.code[i], Ins)), None)
+        return self.found[id(label)]
 
 
 def _thread(code: list[Item]) -> list[Item]:
     code = list(code)
-    places = _Places(code)  # instructions are replaced in place here, never moved
+    targets = _Targets(code)
     for index, item in enumerate(code):
         if not isinstance(item, Ins) or item.op not in JUMPS:
             continue
         for _ in range(8):
-            dest_index = places.first_ins(code, item.args[0])
+            dest_index = targets.first_ins(item.args[0])
             if dest_index is None:
                 break
             dest = code[dest_index]
             if dest.op == "GOTO" and dest.args[0] is not item.args[0]:
                 item = Ins(item.op, (dest.args[0],), item.span)
             elif (item.op == "GOTO" and dest.ends_flow and dest.size == 1
-                  and not places.falls_to(index, item.args[0])):
+                  and not _falls_to(code, index, item.args[0])):
                 item = Ins(dest.op, (), dest.span)
                 break
             else:
@@ -120,19 +125,17 @@ def _drop_dead(code: list[Item]) -> list[Item]:
             result.append(item)
             dead = item.ends_flow
     # a GOTO to the very next instruction
-    places = _Places(result)
     return [item for index, item in enumerate(result)
-            if not (isinstance(item, Ins) and item.op == "GOTO" and places.falls_to(index, item.args[0]))]
+            if not (isinstance(item, Ins) and item.op == "GOTO" and _falls_to(result, index, item.args[0]))]
 
 
 def _skip_over_goto(code: list[Item]) -> list[Item]:
     """IF_X L1; GOTO L2; L1:  ->  IF_notX L2; L1:"""
     result = list(code)
-    places = _Places(result)  # a replaced pair stays two instructions (the second a NOP) until the end
     for index in range(len(result) - 2):
         first, second = result[index], result[index + 1]
         if (isinstance(first, Ins) and first.op in COND_JUMPS and isinstance(second, Ins)
-                and second.op == "GOTO" and places.falls_to(index + 1, first.args[0])):
+                and second.op == "GOTO" and _falls_to(result, index + 1, first.args[0])):
             result[index] = Ins(FLIP[first.op], second.args, first.span)
             result[index + 1] = Ins("NOP")
     return [item for item in result if not (isinstance(item, Ins) and item.op == "NOP")]
@@ -142,7 +145,8 @@ def _fuse(code: list[Item]) -> list[Item]:
     result: list[Item] = []
     for item in code:
         result.append(item)
-        _fuse_tail(result)
+        if isinstance(item, Ins) and item.op in FUSED_LAST:
+            _fuse_tail(result)
     return result
 
 
