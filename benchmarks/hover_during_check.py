@@ -92,7 +92,8 @@ async def wait_for(published: dict, key: tuple[str, int], timeout: float = 120) 
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--lines", type=int, default=10_000)
     args = parser.parse_args()
     on_big, on_small, checked = asyncio.run(run(args.lines))

@@ -26,7 +26,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--roles", type=int, default=20_000)
     args = parser.parse_args()
-    for label, text in (("roles", many_roles(args.roles)), ("subroles of one role", many_subroles(args.roles))):
+    programs = (("roles", many_roles(args.roles)), ("subroles of one role", many_subroles(args.roles)))
+    for label, text in programs:
         start = time.perf_counter()
         analysis = analyze(text)
         checked = time.perf_counter() - start
