@@ -60,6 +60,7 @@ class Ins:
 
 
 _SIZES = {name: instruction.size for name, instruction in BY_NAME.items()}  # read for every pass
+_ALONE = {name: bytes([instruction.opcode]) for name, instruction in BY_NAME.items()}  # no operands
 _ENDS_FLOW = frozenset(name for name, instruction in BY_NAME.items() if instruction.no_fallthrough)
 Item = Union[Ins, Label]
 JUMPS = {"GOTO", "IF_FALSE_GOTO", "IF_TRUE_GOTO"}
@@ -86,6 +87,8 @@ def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]])
         if 0 <= value <= 127:
             return bytes([PUSH_SMALL_BASE + value])
         return bytes([BY_NAME["PUSHC"].opcode, value & 0xFF])
+    if not ins.args:
+        return _ALONE[ins.op]
     out = [BY_NAME[ins.op].opcode]
     for arg in ins.args:
         if isinstance(arg, Label):
