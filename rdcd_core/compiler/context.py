@@ -24,9 +24,11 @@ class Context:
     inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
     cache: dict[tuple, object] = field(default_factory=dict)  # per-compilation memo
+    reported: set[tuple[str, Span]] = field(default_factory=set)  # (code, span) of ``diagnostics``
 
     def report(self, code: str, span: Span, message: str) -> None:
-        if not any(d.code == code and d.span == span for d in self.diagnostics):
+        if (code, span) not in self.reported:  # a set: thousands of reports stay linear
+            self.reported.add((code, span))
             self.diagnostics.append(diag.make(code, span, message))
 
     def scopes(self) -> list[str]:

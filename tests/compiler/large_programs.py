@@ -43,3 +43,9 @@ def many_subroles(count: int) -> str:
     parts += [f"role R{i} extends W {{\n  constant k := {i % 8};\n  self.x() == {i % 100};\n"
               f"  command c{i}() {{ self.setLed(1); }}\n}}\n" for i in range(count)]
     return "".join(parts) + "deployment { R0, R1 }\n"
+
+
+def many_errors(count: int) -> str:
+    """A startup method whose ``count`` calls each get the compiler's error E604 (not constant)."""
+    calls = "".join(f"    self.setLed(self.y() + {i % 50});\n" for i in range(count))
+    return "role Big {\n  self.x() == 0;\n  startup go() {\n" + calls + "  }\n}\ndeployment { Big }\n"

@@ -17,7 +17,7 @@ from rdcd_core.ide.analysis import analyze
 from rdcd_core.ide.inlay import fragment_hints
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from large_programs import many_ifs, many_invariants, many_roles, many_subroles  # noqa: E402
+from large_programs import many_errors, many_ifs, many_invariants, many_roles, many_subroles  # noqa: E402
 
 PACKAGE = Path(__file__).resolve().parents[2] / "rdcd_core"
 SMALL = 150
@@ -68,6 +68,7 @@ CHECKS = {
     "ifs in a command": lambda n: many_ifs(n, "command", with_else=False),
     "ifs in a startup method (split into fragments)": lambda n: many_ifs(n, "startup", with_else=False),
     "roles with a command each": many_subroles,
+    "calls the compiler reports (E604 each)": many_errors,
 }
 
 
