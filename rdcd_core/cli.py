@@ -20,6 +20,7 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "compile": ("rdcd_core.cli_compile", "compile a program to DCD-VM bytecode fragments"),
     "fmt": ("rdcd_core.cli_fmt", "format RDCD programs"),
     "simulate": ("sim.cli_simulate", "run a program on a simulated ATRON robot"),
+    "sweep": ("sim.sweep.cli", "run experiments: many simulations over a grid of options"),
 }
 
 
@@ -63,6 +64,45 @@ class _ClosedOutput(io.TextIOBase):
         raise OSError(errno.EBADF, "standard output is closed")
 
 
+class _ReaderMayLeave:
+    """A standard stream whose reader may stop early (`rdcd check bad.rdcd | head -1`). The rest of
+    the output is dropped, but the command runs to its end: its exit status (errors found, files
+    written) must not turn into 0 because nobody read the last lines."""
+
+    def __init__(self, stream: object) -> None:
+        self._stream = stream
+        self.reader_left = False
+
+    def write(self, text: str) -> int:
+        if not self.reader_left:
+            try:
+                return self._stream.write(text)  # type: ignore[attr-defined]
+            except BrokenPipeError:
+                self._reader_left()
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.reader_left:
+            try:
+                self._stream.flush()  # type: ignore[attr-defined]
+            except BrokenPipeError:
+                self._reader_left()
+
+    def _reader_left(self) -> None:
+        """The pipe goes to /dev/null: what is still buffered, and the interpreter's last flush,
+        must not fail again (and print a warning at exit)."""
+        self.reader_left = True
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self._stream.fileno())  # type: ignore[attr-defined]
+            os.close(devnull)
+        except (OSError, ValueError, AttributeError, io.UnsupportedOperation):
+            pass
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._stream, name)
+
+
 def _prepare_streams() -> None:
     if sys.stderr is None:
         sys.stderr = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115 (lives as long as we do)
@@ -74,18 +114,20 @@ def _prepare_streams() -> None:
             stream.reconfigure(errors="backslashreplace")
 
 
-def _silence_stdout() -> None:
-    """After a broken pipe, the interpreter's final flush would fail again and print a warning."""
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError, io.UnsupportedOperation):
-        pass
-
-
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     _prepare_streams()
+    streams = sys.stdout, sys.stderr
+    if not isinstance(sys.stdout, _ClosedOutput):
+        sys.stdout = _ReaderMayLeave(sys.stdout)  # type: ignore[assignment]
+    sys.stderr = _ReaderMayLeave(sys.stderr)  # type: ignore[assignment]
+    try:
+        return _run(argv)
+    finally:
+        sys.stdout, sys.stderr = streams
+
+
+def _run(argv: list[str]) -> int:
     name = "rdcd"
     try:
         parser = build_parser(_selected_command(argv))
@@ -103,9 +145,6 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("rdcd: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:  # the reader stopped early (`| head`): nothing to report
-        _silence_stdout()
-        return 0
     except OSError as error:  # an I/O error no subcommand caught: writing the output, mostly
         where = f"{error.filename}: " if error.filename else "cannot write the output: "
         _report(f"{name}: {where}{error.strerror or error}")

@@ -1,4 +1,5 @@
-"""``rdcd check [--format text|json|github] [--warnings-as-errors] [--packet-budget N] PATH...``
+"""``rdcd check [--format text|json|github] [--warnings-as-errors] [--packet-budget N]
+[--target default|original] PATH...``
 
 Exit status: 0 no errors, 1 errors (or warnings with --warnings-as-errors), 2 usage or I/O error.
 """
@@ -13,6 +14,8 @@ from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES, MAX_
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
 from rdcd_core.inputs import InputError, collect_files, read_source
+from rdcd_core.source import visible
+from vm.isa.targets import TARGETS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,6 +28,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--packet-budget", type=int, default=DEFAULT_PACKET_BUDGET, metavar="N",
                         help="packet size budget in bytes for the target checks "
                              f"(default: {DEFAULT_PACKET_BUDGET})")
+    add_target_argument(parser)
+
+
+def add_target_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--target", choices=tuple(TARGETS), default=None,
+                        help="what the code must run on: 'default', this project's DCD-VM, or "
+                             "'original', the ATRON firmware of 2007 (its instructions, stack 5, "
+                             "100 instructions a run; default: default)")
+
+
+def chosen_target(args: argparse.Namespace) -> str:
+    """--target, or 'original' for --strict-isa (its old name), else 'default'."""
+    if getattr(args, "target", None):
+        return args.target
+    return "original" if getattr(args, "strict_isa", False) else "default"
 
 
 def check_packet_budget(flag: str, value: int) -> None:
@@ -41,7 +59,9 @@ def run(args: argparse.Namespace) -> int:
     except InputError as error:
         print(f"rdcd check: {error}", file=sys.stderr)
         return 2
-    results = [(path, check_text(text, packet_budget=args.packet_budget)) for path, text in sources]
+    target = chosen_target(args)
+    results = [(path, check_text(text, packet_budget=args.packet_budget, target=target))
+               for path, text in sources]
     out = sys.stdout
     if args.format == "json":
         out.write(render_json(results) + "\n")
@@ -78,7 +98,7 @@ def render_text(path: str, result: CheckResult, diagnostic: Diagnostic) -> str:
     label = diagnostic.severity.label
     lines = [f"{path}:{line}:{column}: {label}[{diagnostic.code}]: {_clip(diagnostic.message)}"]
     index = result.line_index
-    source = index.line_text(line - 1)
+    source = visible(index.line_text(line - 1))  # a form feed or U+2028 would move the caret
     if source.strip():
         width = (end_column - column) if end_line == line else len(source) - column + 1
         source, at, width = _excerpt(source, column - 1, width)

@@ -1,4 +1,7 @@
-"""``rdcd compile FILE [--format listing|json|c] [--max-packet 50] [--strict-isa] [-o OUT]``
+"""``rdcd compile FILE [--format listing|json|c] [--max-packet 50] [--target default|original] [-o OUT]``
+
+``--strict-isa`` is kept as an alias of ``--target original``: it promised code for the original
+DCD-VM, which is what that target delivers (only the instructions the firmware runs, its limits).
 
 Exit status: 0 compiled, 1 the program has errors, 2 usage or I/O error.
 """
@@ -6,17 +9,16 @@ Exit status: 0 compiled, 1 the program has errors, 2 usage or I/O error.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
-from pathlib import Path
 
-from rdcd_core.cli_check import check_packet_budget, render_text
+from rdcd_core.cli_check import add_target_argument, check_packet_budget, chosen_target, render_text
 from rdcd_core.compiler import CompiledProgram, add_source_lines, compile_model
 from rdcd_core.compiler.program import DEFAULT_PACKET_BUDGET, HEADER_BYTES
 from rdcd_core.compiler.render import render_c, render_json, render_listing
 from rdcd_core.diagnostics import Diagnostic, Severity
 from rdcd_core.frontend import CheckResult, check_text
-from rdcd_core.inputs import InputError, read_source
+from rdcd_core.inputs import InputError, describe_os_error, read_source
+from rdcd_core.outputs import check_outputs, write_atomically
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,31 +28,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-packet", type=int, default=DEFAULT_PACKET_BUDGET, metavar="N",
                         help=f"packet budget in bytes, {HEADER_BYTES} header bytes included "
                              f"(default: {DEFAULT_PACKET_BUDGET})")
+    add_target_argument(parser)
     parser.add_argument("--strict-isa", action="store_true",
-                        help="refuse this project's extension instructions")
-    parser.add_argument("-o", "--output", metavar="OUT", help="write the output here, not to stdout")
+                        help="alias of --target original (kept for compatibility)")
+    parser.add_argument("-o", "--output", metavar="OUT",
+                        help="write the output to this file (atomically; never over the program), "
+                             "not to stdout")
 
 
-def _same_file(a: str, b: str) -> bool:
-    try:
-        return os.path.samefile(a, b)
-    except (OSError, ValueError):  # the output does not exist yet (or cannot be looked at)
-        return False
-
-
-def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False
-                 ) -> tuple[CheckResult, CompiledProgram | None, list[Diagnostic]]:
-    """Checks ``text`` and, if it has no errors, compiles it: the check result, the program (None
-    after errors) and every diagnostic, the compiler's own ones that the check had not found added."""
-    result = check_text(text, packet_budget=packet_budget)
+def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
+                 target: str | None = None) -> tuple[CheckResult, CompiledProgram | None, list[Diagnostic]]:
+    """Checks ``text`` and, if it has no errors, compiles it for ``target`` (``strict_isa``: the
+    original target): the check result, the program (None after errors) and every diagnostic, the
+    compiler's own ones that the check had not found added."""
+    name = target or ("original" if strict_isa else "default")
+    result = check_text(text, packet_budget=packet_budget, target=name)
     diagnostics = list(result.diagnostics)
     if result.has_errors:
         return result, None, diagnostics
-    if result.compiled is not None and not strict_isa:  # the check compiled it: add the source lines
+    if result.compiled is not None:  # the check compiled it: add the source lines
         program = result.compiled
         add_source_lines(program.fragments, result.line_index)
         return result, program, diagnostics
-    program = compile_model(result.model, packet_budget=packet_budget, strict_isa=strict_isa, text=text)
+    program = compile_model(result.model, packet_budget=packet_budget, target=name, text=text)
     known = {(d.code, d.span) for d in diagnostics}
     diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
     return result, program, diagnostics
@@ -60,16 +60,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         check_packet_budget("--max-packet", args.max_packet)
         text = read_source(args.file)
+        if args.output is not None:  # before compiling: `-o ''` or `-o PROGRAM` is a slip, said at once
+            check_outputs([("-o", args.output)], [("the program", args.file)])
     except InputError as error:
         print(f"rdcd compile: {error}", file=sys.stderr)
         return 2
-    if args.output and _same_file(args.file, args.output):
-        print(f"rdcd compile: -o {args.output} is the program itself; refusing to overwrite it",
-              file=sys.stderr)
-        return 2
     try:
         result, program, diagnostics = compile_text(text, packet_budget=args.max_packet,
-                                                    strict_isa=args.strict_isa)
+                                                    target=chosen_target(args))
     except Exception as error:  # a compiler bug: one clear line, not a traceback
         print(f"rdcd compile: internal compiler error: {type(error).__name__}: {error}; "
               "please report this bug", file=sys.stderr)
@@ -80,11 +78,11 @@ def run(args: argparse.Namespace) -> int:
         return 1
     output = {"json": lambda: render_json(program) + "\n", "c": lambda: render_c(program, args.file),
               "listing": lambda: render_listing(program)}[args.format]()
-    if args.output:
+    if args.output is not None:
         try:
-            Path(args.output).write_text(output, encoding="utf-8")
+            write_atomically(args.output, output)
         except OSError as error:
-            print(f"rdcd compile: {args.output}: {error.strerror or error}", file=sys.stderr)
+            print(f"rdcd compile: cannot write {args.output}: {describe_os_error(error)}", file=sys.stderr)
             return 2
     else:
         sys.stdout.write(output)

@@ -6,7 +6,8 @@ import argparse
 import sys
 
 from rdcd_core.formatter import format_text
-from rdcd_core.inputs import InputError, collect_files, read_source, write_atomically
+from rdcd_core.inputs import InputError, collect_files, describe_os_error, read_source
+from rdcd_core.outputs import write_atomically
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,10 +37,12 @@ def run(args: argparse.Namespace) -> int:
             status = max(status, 1)
             continue
         try:
-            write_atomically(path, formatted)
+            # a link is followed (the real file formatted, the link kept); hard links, mode and
+            # owner are kept
+            write_atomically(path, formatted, keep_links=True)
         except OSError as error:
-            print(f"rdcd fmt: cannot write {path}: {error.strerror or error} (the file is unchanged)",
-                  file=sys.stderr)
+            kept = "" if "old content is saved" in str(error) else " (the file is unchanged)"
+            print(f"rdcd fmt: cannot write {path}: {describe_os_error(error)}{kept}", file=sys.stderr)
             return 2
         print(f"reformatted {path}")
     return status

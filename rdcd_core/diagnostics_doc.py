@@ -13,6 +13,14 @@ _GROUPS = {
 }
 
 
+# Codes no longer reported, with why; a retired code is never given to another diagnostic.
+RETIRED = {
+    "E602": ("more than 14 role identifiers after mixin expansion",
+             "the compiler's own count of the role identifiers; the checker's E120 counts the same "
+             "identifiers and reports every such program first, so E602 could never be reported."),
+}
+
+
 def _group(info: CodeInfo) -> str:
     return _GROUPS.get(info.code[1], "Other")
 
@@ -42,6 +50,10 @@ def render() -> str:
             current = group
         lines += ["", f"### {info.code}", "", f"**{info.severity.label}**: {info.title}.", "",
                   "```rdcd", info.example.rstrip("\n"), "```"]
+    lines += ["", "## Retired codes", "",
+              "These codes are no longer reported; none is given to another diagnostic."]
+    for code, (title, note) in sorted(RETIRED.items()):
+        lines += ["", f"### {code}", "", f"**retired**: {title}: {note}"]
     return "\n".join(lines) + "\n"
 
 

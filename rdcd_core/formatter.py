@@ -4,6 +4,11 @@ The formatter prints the AST again and threads every comment back in: comments b
 member or statement stay on their own lines before it; comments on the same line as the end of
 something stay on that line. Formatting never changes the AST (``ast.strip_spans``) and is
 idempotent. Blocks passed as arguments stay on one line when the user wrote them on one line.
+
+Lines are the LSP's (``rdcd_core.source``): a text keeps the line break it starts with
+(``\\r\\n``, ``\\r`` or ``\\n``), and every line break it prints, those inside block comments
+too, is that one. Form feed, U+2028 and the like inside comments are kept as they are: they do
+not end a line.
 """
 
 from __future__ import annotations
@@ -11,12 +16,23 @@ from __future__ import annotations
 import difflib
 
 from rdcd_core.diagnostics import TextEdit
-from rdcd_core.source import LineIndex, Span
+from rdcd_core.source import (
+    LineIndex,
+    Span,
+    count_line_breaks,
+    has_line_break,
+    newline_of,
+    normalize_newlines,
+    split_lines,
+)
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.parser import parse
 
 INDENT = "  "
 MAX_INLINE = 100
+_SPACE = " \t\f\r\n\ufeff"  # grammar.lark's WS: all a gap between tokens can hold
+# Operator characters that would read as one operator if printed side by side ("- -1" is not "--1").
+_GLUED = frozenset({"--", "++", "!=", "=="})
 
 
 def format_text(text: str) -> str | None:
@@ -73,7 +89,7 @@ def format_range(text: str, span: Span) -> list[TextEdit] | None:
     lines = [n for n, anchor in enumerate(printer.anchors) if anchor is not None and start <= anchor < limit]
     if not lines:
         return []
-    new_text = "\n".join(printer.out[lines[0]:lines[-1] + 1]) + "\n"
+    new_text = printer.join(printer.out[lines[0]:lines[-1] + 1])
     if text[start:end] == new_text:
         return []
     return [TextEdit(Span(start, end), new_text)]
@@ -83,8 +99,8 @@ def line_edits(old: str, new: str) -> list[TextEdit]:
     """Line-based edits from ``old`` to ``new``."""
     if old == new:
         return []
-    old_lines = old.splitlines(keepends=True)
-    new_lines = new.splitlines(keepends=True)
+    old_lines = split_lines(old, keepends=True)
+    new_lines = split_lines(new, keepends=True)
     starts = [0]
     for line in old_lines:
         starts.append(starts[-1] + len(line))
@@ -101,6 +117,7 @@ class _Printer:
     def __init__(self, program: ast.Program, text: str) -> None:
         self.program = program
         self.text = text
+        self.newline = newline_of(text)
         self.comments = sorted(program.comments, key=lambda c: c.span.start)
         self.next_comment = 0
         self.out: list[str] = []  # finished lines
@@ -115,11 +132,22 @@ class _Printer:
 
     def _blank_before(self, offset: int) -> bool:
         gap = self.text[self.last_end:offset]
-        return self.last_end > 0 and gap.strip() == "" and gap.count("\n") >= 2
+        return self.last_end > 0 and gap.strip(_SPACE) == "" and count_line_breaks(gap) >= 2
 
     def _emit(self, line: str, anchor: int) -> None:
-        self.out.append(line.rstrip() if "\n" not in line else line)
+        # Trailing blanks go; a form feed or U+2028 closing a comment is the user's text and stays.
+        self.out.append(line.rstrip(" \t") if "\n" not in line else line)
         self.anchors.append(anchor)
+
+    @staticmethod
+    def _comment(comment: ast.Comment) -> str:
+        """A comment's text with its line breaks as ``\\n`` (``join`` writes them in the text's style)."""
+        return normalize_newlines(comment.text)
+
+    def join(self, lines: list[str]) -> str:
+        """Printed lines as text, every line break the text's own."""
+        joined = "\n".join(lines) + "\n"
+        return joined if self.newline == "\n" else joined.replace("\n", self.newline)
 
     def _blank(self) -> None:
         if self.out and self.out[-1] != "":
@@ -131,7 +159,7 @@ class _Printer:
         while (comment := self._pending()) is not None and comment.span.start < offset:
             if self._blank_before(comment.span.start):
                 self._blank()
-            self._emit(INDENT * depth + comment.text, comment.span.start)
+            self._emit(INDENT * depth + self._comment(comment), comment.span.start)
             self.next_comment += 1
             self.last_end = comment.span.end
 
@@ -142,10 +170,10 @@ class _Printer:
         while (comment := self._pending()) is not None:
             inside = comment.span.start < end
             gap = self.text[max(end, self.last_end):comment.span.start]
-            after = comment.span.start >= end and "\n" not in gap
+            after = comment.span.start >= end and not has_line_break(gap)
             if not (inside or after):
                 break
-            trailing.append(comment.text)
+            trailing.append(self._comment(comment))
             self.next_comment += 1
             end = max(end, comment.span.end)
             if comment.text.startswith("//"):
@@ -180,7 +208,7 @@ class _Printer:
         while self.out and self.out[-1] == "":
             self.out.pop()
             self.anchors.pop()
-        return "\n".join(self.out) + "\n" if self.out else ""
+        return self.join(self.out) if self.out else ""
 
     def role(self, role: ast.RoleDecl) -> None:
         header = "abstract role " if role.is_abstract else "role "
@@ -290,7 +318,7 @@ class _Printer:
 
     def _inline_block(self, block: ast.Block, depth: int) -> bool:
         source = self.text[block.span.start:block.span.end]
-        if "\n" in source or self._comments_in_range(block.span):
+        if has_line_break(source) or self._comments_in_range(block.span):
             return False
         return len(INDENT * depth) + len(inline_block(block)) <= MAX_INLINE
 
@@ -305,7 +333,8 @@ def expr(node: ast.Arg) -> str:
     if isinstance(node, ast.NameRef):
         return node.name.text
     if isinstance(node, ast.Unary):
-        return node.op + expr(node.operand)
+        operand = expr(node.operand)
+        return node.op + (" " if node.op[-1] + operand[:1] in _GLUED else "") + operand
     if isinstance(node, ast.Binary):
         return f"{expr(node.left)} {node.op} {expr(node.right)}"
     if isinstance(node, ast.Paren):

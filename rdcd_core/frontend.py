@@ -40,16 +40,19 @@ class CheckResult:
         return LineIndex(self.text)
 
 
-def check_text(text: str, *, packet_budget: int = 50, previous: ParseResult | None = None) -> CheckResult:
-    """Syntax and semantic diagnostics of ``text`` (plus the compiler's, when error-free).
+def check_text(text: str, *, packet_budget: int = 50, previous: ParseResult | None = None,
+               target: str = "default") -> CheckResult:
+    """Syntax and semantic diagnostics of ``text`` (plus the compiler's for ``target``, a name of
+    ``vm.isa.targets.TARGETS``, when error-free).
 
     ``previous``, the parse of an earlier version of the text (an editor's), only makes it faster.
     """
     with gc_paused():
-        return _check(text, packet_budget, previous)
+        return _check(text, packet_budget, previous, target)
 
 
-def _check(text: str, packet_budget: int, previous: ParseResult | None) -> CheckResult:
+def _check(text: str, packet_budget: int, previous: ParseResult | None,
+           target: str = "default") -> CheckResult:
     try:
         parsed = parse(text, previous)
     except Exception as error:  # a parser bug: report it, keep the editor and the CLI alive
@@ -64,16 +67,16 @@ def _check(text: str, packet_budget: int, previous: ParseResult | None) -> Check
         return _sorted(result)
     result.diagnostics.extend(result.model.diagnostics)
     if not result.has_errors:
-        result.diagnostics.extend(_target_diagnostics(result, packet_budget))
+        result.diagnostics.extend(_target_diagnostics(result, packet_budget, target))
     return _sorted(result)
 
 
-def _target_diagnostics(result: CheckResult, packet_budget: int) -> list[diag.Diagnostic]:
+def _target_diagnostics(result: CheckResult, packet_budget: int, target: str) -> list[diag.Diagnostic]:
     """The target limits (language.md §6): the program is compiled and kept on ``result``."""
     from rdcd_core.compiler import compile_model  # the layer above: imported when needed
 
     try:
-        result.compiled = compile_model(result.model, packet_budget=packet_budget)
+        result.compiled = compile_model(result.model, packet_budget=packet_budget, target=target)
     except Exception as error:  # the compiler is another layer: report, do not crash
         return [_internal(error, "compilation")]
     return list(result.compiled.diagnostics)

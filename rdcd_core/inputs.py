@@ -1,7 +1,7 @@
-"""Reading and writing the user's files for the command line: one place for the rules.
+"""Reading the user's files for the command line: one place for the rules.
 
 Only regular files are read (a FIFO would wait for a writer forever, a device may never end);
-text must be UTF-8; files are rewritten atomically (a full disk must not truncate a program).
+text must be UTF-8. Writing is in ``rdcd_core.outputs``.
 Problems are ``InputError``: one line for the user, exit status 2.
 """
 
@@ -10,7 +10,6 @@ from __future__ import annotations
 import errno
 import os
 import stat
-import tempfile
 from pathlib import Path
 
 
@@ -18,29 +17,60 @@ class InputError(Exception):
     """A usage or I/O problem: reported in one line, exit status 2."""
 
 
+def describe_os_error(error: OSError) -> str:
+    """Why a path cannot be used, in the same words for every command (no file name)."""
+    if error.errno == errno.ELOOP:
+        return "a loop of symbolic links"
+    if error.errno == errno.ENOENT:
+        return "no such file or directory"
+    if error.errno == errno.ENOTDIR:
+        return "a part of the path is not a folder"
+    return str(error.strerror or error)
+
+
 def collect_files(paths: list[str]) -> list[str]:
-    """The ``*.rdcd`` files named by ``paths``: files as given, folders searched recursively."""
+    """The ``*.rdcd`` files named by ``paths``: files as given, folders searched recursively.
+
+    Nothing is skipped silently: a sub-folder that cannot be listed is an error, and an entry named
+    ``*.rdcd`` that is not a readable file (a broken link, a loop of links) is returned for
+    ``read_source`` to report."""
     files: list[str] = []
     for raw in paths:
-        path = Path(raw)
+        if not raw:  # Path("") would be the current directory
+            raise InputError("no such file or directory: ''")
         try:
-            if not raw:  # Path("") is the current directory
-                raise FileNotFoundError
-            if path.is_dir():
-                found = sorted(p for p in path.rglob("*.rdcd") if p.is_file())
-                if not found:
-                    raise InputError(f"no .rdcd files found in {raw}")
-                files.extend(str(p) for p in found)
-            elif path.exists():
-                files.append(raw)
-            else:
-                raise FileNotFoundError
+            is_dir = stat.S_ISDIR(os.stat(raw).st_mode)
         except FileNotFoundError:
-            raise InputError(f"no such file or directory: {raw!r}" if not raw else
-                             f"no such file or directory: {raw}") from None
-        except OSError as error:  # a name too long, a loop of links, a directory not listable
-            raise InputError(f"cannot read {raw}: {error.strerror or error}") from None
+            raise InputError(f"no such file or directory: {raw}{_broken_link(raw)}") from None
+        except OSError as error:  # a name too long, a loop of links, a folder not searchable
+            raise InputError(f"cannot read {raw}: {describe_os_error(error)}") from None
+        except ValueError:  # a NUL in the path
+            raise InputError(f"cannot read {raw!r}: a path cannot contain a NUL character") from None
+        if not is_dir:
+            files.append(raw)
+            continue
+        found = _walk(raw)
+        if not found:
+            raise InputError(f"no .rdcd files found in {raw}")
+        files.extend(found)
     return files
+
+
+def _walk(folder: str) -> list[str]:
+    def unreadable(error: OSError) -> None:
+        raise InputError(f"cannot read the folder {error.filename}: {describe_os_error(error)}")
+
+    found = []
+    for parent, _, names in os.walk(folder, onerror=unreadable):  # links to folders not followed
+        found += [os.path.join(parent, name) for name in names if name.endswith(".rdcd")]
+    return sorted(found, key=lambda p: Path(p).parts)
+
+
+def _broken_link(path: str) -> str:
+    try:
+        return f" (a broken symbolic link to {os.readlink(path)})" if os.path.islink(path) else ""
+    except OSError:
+        return ""
 
 
 def read_regular(path: str) -> bytes:
@@ -62,37 +92,14 @@ def read_source(path: str) -> str:
     try:
         data = read_regular(path)
     except FileNotFoundError:
-        raise InputError(f"no such file: {name}") from None
+        raise InputError(f"no such file: {name}{_broken_link(path)}") from None
     except IsADirectoryError:
         raise InputError(f"{name} is a directory, not a file") from None
     except OSError as error:
-        raise InputError(f"cannot read {name}: {error.strerror or error}") from None
+        raise InputError(f"cannot read {name}: {describe_os_error(error)}") from None
+    except ValueError:  # a NUL in the path
+        raise InputError(f"cannot read {name!r}: a path cannot contain a NUL character") from None
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as error:
         raise InputError(f"{name} is not UTF-8 text (byte {error.start})") from None
-
-
-def write_atomically(path: str, text: str) -> None:
-    """Replace a file's content all at once: written to a temporary file beside it, then renamed,
-    so a failed write (a full disk) leaves the original untouched. Keeps the file's mode."""
-    target = Path(path)
-    try:
-        mode = stat.S_IMODE(target.stat().st_mode)
-    except OSError:
-        mode = None
-    fd, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as file:
-            file.write(text)
-            file.flush()
-            os.fsync(file.fileno())
-        if mode is not None:
-            os.chmod(temporary, mode)
-        os.replace(temporary, target)
-    except BaseException:
-        try:
-            os.unlink(temporary)
-        except OSError:
-            pass
-        raise

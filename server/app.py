@@ -100,36 +100,37 @@ class RdcdServer(LanguageServer):
         waiting for the same version shares one check."""
         if document.analysis is not None:
             return document.analysis
-        version, text = document.version, document.text
-        if document.checking is None or document.checking_version != version:
+        version, text, target = document.version, document.text, document.target
+        if document.checking is None or document.checking_key != (version, target):
             previous = document.last_good
             future = asyncio.get_running_loop().run_in_executor(
-                self.checker, self._analyze, document, version, text, previous)
-            future.add_done_callback(functools.partial(self._checked, document, version, text))
-            document.checking, document.checking_version = future, version
+                self.checker, self._analyze, document, version, text, previous, target)
+            future.add_done_callback(functools.partial(self._checked, document, version, text, target))
+            document.checking, document.checking_key = future, (version, target)
         # shielded: a cancelled request (or debounce) must not cancel a check others wait for
         await asyncio.shield(document.checking)
         return document.analysis if document.text is text else None
 
     @staticmethod
-    def _analyze(document: Document, version: int, text: str, previous: Analysis | None) -> Analysis | None:
+    def _analyze(document: Document, version: int, text: str, previous: Analysis | None,
+                 target: str) -> Analysis | None:
         """Runs in the worker thread. A check queued behind others is skipped once its version
-        is no longer the document's (reading an int is safe from this thread)."""
-        if document.version != version:
+        (or target) is no longer the document's (reading an attribute is safe from this thread)."""
+        if document.version != version or document.target != target:
             return None
-        return analyze(text, previous=previous)
+        return analyze(text, previous=previous, target=target)
 
     @staticmethod
-    def _checked(document: Document, version: int, text: str, future: asyncio.Future) -> None:
+    def _checked(document: Document, version: int, text: str, target: str, future: asyncio.Future) -> None:
         """On the loop's thread: records what the worker found."""
         if document.checking is future:
-            document.checking = document.checking_version = None
+            document.checking = document.checking_key = None
         if future.cancelled():
             return
         if future.exception() is not None:
             log.error("checking %s failed: %s", document.uri, future.exception())
         elif future.result() is not None:
-            document.record(future.result(), version, text)
+            document.record(future.result(), version, text, target)
 
     def publish(self, document: Document, analysis: Analysis, version: int) -> None:
         """Publishes unless a newer version was already published or the text moved on."""

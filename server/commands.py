@@ -6,10 +6,11 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
+import math
 import os
+import re
 import shutil
 import sys
-import tempfile
 import time
 import uuid
 from pathlib import Path
@@ -18,6 +19,7 @@ from typing import Any
 from lsprotocol import types
 from pygls.exceptions import JsonRpcRequestCancelled
 
+from server import scratch
 from server.guard import RequestFailed
 
 log = logging.getLogger("rdcd.server")
@@ -25,17 +27,46 @@ log = logging.getLogger("rdcd.server")
 SIMULATE = "rdcd.simulate"
 SHOW_BYTECODE = "rdcd.showBytecode"
 OPTION_FLAGS = {"config": "--config", "obstacle": "--obstacle", "duration": "--duration", "seed": "--seed",
-                "world": "--world", "packetLoss": "--packet-loss"}
+                "world": "--world", "packetLoss": "--packet-loss",
+                "vm": "--vm", "target": "--target"}
+MAX_OPTION_LENGTH = 4096
 
 
-def simulate_arguments(program: Path, options: dict[str, Any], report: Path, plot: Path) -> list[str]:
-    argv = [sys.executable, "-m", "rdcd_core", "simulate", str(program)]
-    for key, flag in OPTION_FLAGS.items():
-        value = options.get(key)
+def checked_options(options: Any) -> dict[str, str]:
+    """The options as command-line values; anything that cannot be one is refused in one line (a NUL
+    would otherwise end in a traceback from ``exec``, a value ``--gui`` would be taken as a flag)."""
+    if options is None:
+        return {}
+    if not isinstance(options, dict):
+        raise RequestFailed("the options of rdcd.simulate are an object such as {\"config\": \"car7\"}")
+    values = {}
+    for key, value in options.items():
+        if key not in OPTION_FLAGS:
+            raise RequestFailed(f"unknown simulate option {key!r} (known: {', '.join(OPTION_FLAGS)})")
         if value is None:
             continue
-        argv += [flag, str(value)]
-    return argv + ["--report", str(report), "--plot", str(plot)]
+        if isinstance(value, float) and not math.isfinite(value):
+            raise RequestFailed(f"simulate option {key}: {value} is not a finite number")
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            kind = type(value).__name__
+            raise RequestFailed(f"simulate option {key} must be a string or a number, not {kind}")
+        text = value if isinstance(value, str) else repr(value)
+        bad = next((c for c in text if not c.isprintable() or 0xD800 <= ord(c) <= 0xDFFF), None)
+        if bad is not None:
+            raise RequestFailed(f"simulate option {key} contains the character U+{ord(bad):04X}, which no "
+                                "option can contain")
+        if len(text) > MAX_OPTION_LENGTH:
+            raise RequestFailed(f"simulate option {key} is longer than {MAX_OPTION_LENGTH} characters")
+        values[key] = text
+    return values
+
+
+def simulate_arguments(program: Path, options: dict[str, str], report: Path, plot: Path) -> list[str]:
+    argv = [sys.executable, "-m", "rdcd_core", "simulate", str(program)]
+    for key, flag in OPTION_FLAGS.items():
+        if key in options:
+            argv.append(f"{flag}={options[key]}")  # one word: a value starting with '-' stays a value
+    return argv + [f"--report={report}", f"--plot={plot}"]
 
 
 def child_environment() -> dict[str, str]:
@@ -113,18 +144,42 @@ def _cancel_with_request(ls: Any, task: asyncio.Task | None) -> None:
 
 async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
     text = _document_text(ls, uri)
-    options = options if isinstance(options, dict) else {}
-    folder = Path(tempfile.mkdtemp(prefix="rdcd-simulate-"))
-    program, report, plot = folder / "program.rdcd", folder / "report.json", folder / "plot.png"
-    program.write_text(text, encoding="utf-8")
+    values = checked_options(options)
+    # the program as the editor compiles it (rdcd.target), run on the VM profile the options name
+    values.setdefault("target", ls.settings.target)
+    shown = display_path(uri)
+    first = _first_error_in_editor(ls, uri, text, shown)
+    if first is not None:  # no child needed to say so, and no temporary path in the message
+        raise RequestFailed(first)
+    try:
+        work = scratch.work_folder()
+    except OSError as error:
+        raise RequestFailed(f"cannot create a temporary folder for the simulation: {error}") from None
+    try:
+        return await _simulate(ls, uri, text, values, work, shown)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work: Path,
+                    shown: str) -> dict[str, Any]:
+    program, report, plot = work / program_name(uri), work / "report.json", work / "plot.png"
+    try:
+        program.write_text(text, encoding="utf-8", errors="surrogatepass")  # the simulator refuses those
+    except OSError as error:
+        raise RequestFailed(f"cannot write the program for the simulator: {error}") from None
     task = asyncio.current_task()
     _cancel_with_request(ls, task)
     progress = _Progress(ls)
     await progress.begin("RDCD simulation", lambda: task.cancel() if task is not None else None)
-    process = await asyncio.create_subprocess_exec(
-        *simulate_arguments(program, options, report, plot),
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE, cwd=str(folder),
-        env=child_environment())
+    try:
+        process = await asyncio.create_subprocess_exec(
+            *simulate_arguments(program, beside_document(uri, options), report, plot),
+            stdin=asyncio.subprocess.DEVNULL, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE,
+            cwd=str(work), env=child_environment())
+    except (OSError, ValueError) as error:
+        progress.end("failed")
+        raise RequestFailed(f"cannot start the simulator: {error}") from None
     started = time.monotonic()
     try:
         communicate = asyncio.ensure_future(process.communicate())
@@ -137,18 +192,83 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
             process.kill()
             await process.wait()
         progress.end("cancelled")
-        shutil.rmtree(folder, ignore_errors=True)
         # an Exception, not CancelledError: pygls then answers the request instead of forgetting it
         raise JsonRpcRequestCancelled("simulation cancelled") from None
     if process.returncode != 0 or not report.is_file():
         progress.end("failed")
-        shutil.rmtree(folder, ignore_errors=True)
-        lines = (stderr or stdout).decode("utf-8", "replace").strip().splitlines()
-        reason = lines[-1] if lines else f"exit status {process.returncode}"
-        raise RequestFailed(f"simulation failed: {reason}")
+        output = (stderr or stdout).decode("utf-8", "replace")
+        raise RequestFailed(first_error(output, program, shown) or f"the simulator ended with status "
+                                                                    f"{process.returncode}")
+    try:
+        result = json.loads(report.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        progress.end("failed")
+        raise RequestFailed(f"cannot read the simulation report: {error}") from None
+    kept = scratch.keep_plot(uri, plot) if plot.is_file() else None
     progress.end("done")
-    return {"report": json.loads(report.read_text(encoding="utf-8")),
-            "plotPath": str(plot) if plot.is_file() else None}
+    return {"report": result, "plotPath": str(kept) if kept is not None else None}
+
+
+def display_path(uri: str) -> str:
+    """The document as the user knows it: its path for a file, else its uri."""
+    if uri.startswith("file:"):
+        from pygls.uris import to_fs_path
+
+        path = to_fs_path(uri)
+        if path:
+            return path
+    return uri
+
+
+def program_name(uri: str) -> str:
+    """The user's file name for the copy the simulator reads (its messages then name it)."""
+    name = uri.rstrip("/").rsplit("/", 1)[-1]
+    return name if re.fullmatch(r"[\w.-]{1,100}\.rdcd", name, re.ASCII) else "program.rdcd"
+
+
+def beside_document(uri: str, options: dict[str, str]) -> dict[str, str]:
+    """A relative ``config`` file path read beside the document, as in a terminal in its folder (the
+    child runs in its working folder: a user's folder on its path could shadow the simulator's modules)."""
+    config = options.get("config")
+    if config is None or not uri.startswith("file:") or Path(config).is_absolute():
+        return options
+    try:
+        candidate = Path(display_path(uri)).parent / config
+        if candidate.is_file():
+            return {**options, "config": str(candidate)}
+    except (OSError, ValueError):
+        pass
+    return options
+
+
+def _first_error_in_editor(ls: Any, uri: str, text: str, shown: str) -> str | None:
+    """The first error of the text as the editor has it (the check the diagnostics come from)."""
+    from rdcd_core.diagnostics import Severity
+    from rdcd_core.ide.analysis import analyze
+
+    document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
+    analysis = document.current() if document is not None else analyze(text)
+    error = next((d for d in analysis.diagnostics if d.severity is Severity.ERROR), None)
+    if error is None:
+        return None
+    at = analysis.line_index.line_col(error.span.start)
+    return f"{shown}:{at.line + 1}:{at.column + 1}: error[{error.code}]: {_clip(error.message)}"
+
+
+def first_error(output: str, program: Path, shown: str) -> str | None:
+    """The first error the simulator printed, naming the user's file instead of the copy it ran."""
+    lines = [line.rstrip() for line in output.replace(str(program), shown).splitlines() if line.strip()]
+    for line in lines:
+        if line.startswith(shown + ":") and ": error[" in line:
+            return _clip(line)
+    for line in lines:
+        if re.match(r"rdcd( \w+)?: ", line):
+            return _clip(line)
+    return _clip(lines[-1]) if lines else None
+
+
+def _clip(text: str, limit: int = 500) -> str:
+    return text if len(text) <= limit else f"{text[:limit // 2]} … {text[-limit // 2:]}"
 
 
 def bytecode_listing(ls: Any, uri: Any) -> str:
@@ -160,7 +280,7 @@ def bytecode_listing(ls: Any, uri: Any) -> str:
 
     text = _document_text(ls, uri)
     document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
-    analysis = document.current() if document is not None else analyze(text)
+    analysis = document.current() if document is not None else analyze(text, target=ls.settings.target)
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     program = analysis.compiled() if analysis.model is not None and not errors else None
     if program is None:

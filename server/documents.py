@@ -25,8 +25,9 @@ class Document:
     newest_version: int | None = None
     published_version: int | None = None
     pending: asyncio.Task | None = None  # the debounced check
-    checking: asyncio.Future | None = None  # the worker's analysis of ``checking_version``
-    checking_version: int | None = None
+    checking: asyncio.Future | None = None  # the worker's analysis of ``checking_key``
+    checking_key: tuple[int, str] | None = None  # (version, target)
+    target: str = "default"  # the setting rdcd.target: what the program is checked for
     _positions: Positions | None = field(default=None, repr=False)
     _index: LineIndex | None = field(default=None, repr=False)
 
@@ -41,9 +42,10 @@ class Document:
             self._index = LineIndex(self.text)
         return self._index
 
-    def record(self, analysis: Analysis, version: int, text: str) -> None:
-        """Keeps an analysis of ``text`` (version ``version``), made now or by the worker."""
-        if version == self.version and text is self.text and self.analysis is None:
+    def record(self, analysis: Analysis, version: int, text: str, target: str) -> None:
+        """Keeps an analysis of ``text`` (version ``version``) for ``target``, made now or by the
+        worker: as the current one only if the text and the target are still the document's."""
+        if version == self.version and text is self.text and target == self.target and self.analysis is None:
             self.analysis = analysis
             analysis._line_index = self.line_index()
         if self.newest_version is None or version >= self.newest_version:
@@ -55,7 +57,8 @@ class Document:
         """The analysis of the current text, checked now (on this thread) if it has not been yet.
         Request handlers await ``RdcdServer.analysis_of`` instead, which leaves the loop free."""
         if self.analysis is None:
-            self.record(analyze(self.text, previous=self.last_good), self.version, self.text)
+            analysis = analyze(self.text, previous=self.last_good, target=self.target)
+            self.record(analysis, self.version, self.text, self.target)
         assert self.analysis is not None
         return self.analysis
 
@@ -126,6 +129,16 @@ def _common(limit: int, equal) -> int:  # type: ignore[no-untyped-def]
 class Documents:
     def __init__(self) -> None:
         self.open: dict[str, Document] = {}
+        self.target = "default"
+
+    def retarget(self, target: str) -> list[Document]:
+        """Checks every open document for ``target`` from now on; returns those to check again."""
+        if target == self.target:
+            return []
+        self.target = target
+        for document in self.open.values():
+            document.target, document.analysis = target, None
+        return list(self.open.values())
 
     def get(self, uri: str) -> Document | None:
         return self.open.get(uri)
@@ -133,7 +146,7 @@ class Documents:
     def put(self, uri: str, text: str, version: int) -> Document:
         document = self.open.get(uri)
         if document is None:
-            document = self.open[uri] = Document(uri, version, text)
+            document = self.open[uri] = Document(uri, version, text, target=self.target)
         else:
             document.update(text, version)
         return document

@@ -8,6 +8,9 @@ report, a top-view plot and an animated GIF. Exit status: 0 ran, 1 the program h
 from __future__ import annotations
 
 import argparse
+import ctypes
+import ctypes.util
+import functools
 import json
 import os
 import sys
@@ -15,24 +18,60 @@ from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from sim.config import MAX_SNAKE
+    from sim.quiet import import_pybullet
+
+    import_pybullet()  # before sim.obstacles: its banner kept off the terminal
+    from sim.obstacles import MAX_OBSTACLE_M
+
     parser.add_argument("file", metavar="FILE", help="the RDCD program")
     parser.add_argument("--config", default="car7",
-                        help="shipped configuration (car7, car11, car8-cyclic, car17-wide, snakeN) "
-                             "or a JSON file (default: car7)")
+                        help="shipped configuration (car7, car11, car8-cyclic, car17-wide, snakeN with "
+                             f"N = 1..{MAX_SNAKE} in the lattice world, 1..{physics_snake_max()} in the "
+                             "physics world) or a JSON file (default: car7)")
     parser.add_argument("--world", choices=("physics", "lattice"), default="physics",
                         help="PyBullet physics (default) or the physics-free lattice")
     parser.add_argument("--obstacle", default="wall:1.0", metavar="SPEC",
                         help="none, wall:D (a wall across the path D m ahead of the driver) or box:X,Y,W,L "
-                             "(metres; default: wall:1.0)")
+                             f"(metres, each at most {MAX_OBSTACLE_M:g}; default: wall:1.0)")
     parser.add_argument("--duration", type=float, default=60.0, metavar="S",
-                        help="simulated seconds (default: 60)")
+                        help=f"simulated seconds, more than 0 and at most {MAX_DURATION_S:g} (default: 60)")
     parser.add_argument("--seed", type=int, default=0, help="seed of every random choice (default: 0)")
     parser.add_argument("--packet-loss", type=float, default=0.0, metavar="P",
                         help="probability that an IR packet is lost, 0..1 (default: 0)")
-    parser.add_argument("--report", metavar="OUT.json", help="write the JSON report here")
-    parser.add_argument("--plot", metavar="OUT.png", help="write a top-view plot here")
-    parser.add_argument("--record", metavar="OUT.gif", help="write an animated GIF (physics world)")
-    parser.add_argument("--gui", action="store_true", help="show PyBullet's window (needs a display)")
+    parser.add_argument("--report", metavar="OUT.json", help="write the JSON report to this file")
+    parser.add_argument("--plot", metavar="OUT.png",
+                        help="write a top-view plot to this file; its extension names the format "
+                             "(.png if it has none; also .pdf, .svg, .jpg, ...)")
+    parser.add_argument("--record", metavar="OUT.gif",
+                        help="write an animated GIF to this file (.gif added if it has no extension; "
+                             "physics world)")
+    parser.add_argument("--gui", action="store_true", help="show PyBullet's window (needs an X display)")
+
+    parser.add_argument("--vm", choices=("default", "original"), default="default",
+                        help="VM profile of every module: this project's DCD-VM (default) or the original "
+                             "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
+    parser.add_argument("--target", choices=("default", "original"), default=None,
+                        help="compile the program for this target (default: the one --vm names)")
+
+
+MAX_DURATION_S = 3600.0
+
+
+@functools.cache
+def physics_snake_max() -> int:
+    """The longest snakeN the physics world builds (PyBullet's links per body)."""
+    from sim.config import MAX_SNAKE, snake
+    from sim.quiet import import_pybullet
+
+    import_pybullet()
+    from sim.robot import MAX_LINKS, rigid_part_count
+
+    # a snake of n modules has n + 1 rigid parts: start near the answer, check it for real
+    n = min(MAX_SNAKE, MAX_LINKS)
+    while n > 1 and rigid_part_count(snake(n)) + 1 > MAX_LINKS:
+        n -= 1
+    return n
 
 
 def _fail(message: str) -> int:
@@ -46,25 +85,92 @@ def _check_options(args: argparse.Namespace) -> str | None:
     import_pybullet()
     from sim.obstacles import ObstacleError, parse_obstacle
 
-    if not 0 < args.duration <= 3600:
-        return f"--duration must be in (0, 3600] seconds, not {args.duration:g}"
+    if not 0 < args.duration <= MAX_DURATION_S:
+        return f"--duration must be more than 0 and at most {MAX_DURATION_S:g} seconds, not {args.duration:g}"
     if not 0.0 <= args.packet_loss <= 1.0:
         return f"--packet-loss must be in 0..1, not {args.packet_loss:g}"
     try:
         parse_obstacle(args.obstacle)
     except ObstacleError as e:
         return str(e)
-    if args.world == "lattice" and (args.gui or args.record):
+    if args.world == "lattice" and (args.gui or args.record is not None):
         return "--gui and --record need the physics world"
-    if args.gui and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        return "--gui needs a display (DISPLAY is not set); run without --gui or use --record"
-    for option, path in (("--report", args.report), ("--plot", args.plot), ("--record", args.record)):
-        if path and not Path(path).resolve().parent.is_dir():
-            return f"{option} {path}: the folder does not exist"
+    if args.gui:
+        return _display_problem()
     return None
 
 
-def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
+def _display_problem() -> str | None:
+    """Why PyBullet could not open its window: asked of the X library first, because PyBullet's
+    GUI ends the whole process (status 1, no message) when it cannot."""
+    if not sys.platform.startswith("linux"):
+        return None  # PyBullet uses the system's own windows there
+    display = os.environ.get("DISPLAY", "")
+    if not display:
+        return "--gui needs an X display (DISPLAY is not set); run without --gui or use --record"
+    library = ctypes.util.find_library("X11")
+    if library is None:
+        return "--gui needs the X11 library (libX11), which is not installed; use --record instead"
+    try:
+        x11 = ctypes.CDLL(library)
+        x11.XOpenDisplay.restype = ctypes.c_void_p
+        x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
+        x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+        handle = x11.XOpenDisplay(display.encode("utf-8", "replace"))
+    except (OSError, AttributeError):
+        return None  # cannot ask: let PyBullet try
+    if not handle:
+        return (f"--gui: cannot open the X display {display!r} (DISPLAY); "
+                "run without --gui or use --record")
+    x11.XCloseDisplay(handle)
+    return None
+
+
+def _output_paths(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """(option, path) of every file the run will write, the format of each checked, a missing
+    extension added (the path printed at the end is the one written). InputError if one is bad."""
+    outputs = []
+    if args.report is not None:
+        outputs.append(("--report", args.report))
+    if args.plot is not None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        # pgf is LaTeX source and needs a TeX installation to be written: not a picture format
+        formats = sorted(set(FigureCanvasAgg.get_supported_filetypes()) - {"pgf"})
+        args.plot = _with_format("--plot", args.plot, formats, "png")
+        outputs.append(("--plot", args.plot))
+    if args.record is not None:
+        args.record = _with_format("--record", args.record, ["gif"], "gif")
+        outputs.append(("--record", args.record))
+    return outputs
+
+
+def _with_format(option: str, path: str, accepted: list[str], default: str) -> str:
+    from rdcd_core.inputs import InputError
+
+    if not path or path.endswith(("/", os.sep)):
+        return path  # check_outputs says what is wrong with it
+    suffix = Path(path).suffix
+    if not suffix:  # /dev/stdout and the like are written as named (in the default format)
+        return path if os.path.exists(path) and not os.path.isfile(path) else f"{path}.{default}"
+    if suffix[1:].lower() not in accepted:
+        raise InputError(f"{option} {path}: unknown format {suffix!r} "
+                         f"(accepted: {', '.join('.' + a for a in accepted)})")
+    return path
+
+
+def _physics_problem(structure) -> str | None:  # noqa: ANN001
+    from sim.robot import MAX_LINKS, rigid_part_count
+
+    parts = rigid_part_count(structure)
+    if parts + 1 <= MAX_LINKS:
+        return None
+    return (f"{structure.name or 'the structure'}: the physics world cannot build it: {parts} rigid parts, "
+            f"PyBullet takes at most {MAX_LINKS - 1} in one body (a snake of at most {physics_snake_max()} "
+            "modules); use --world lattice")
+
+
+def _compile(path: str, target: str):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
     from rdcd_core.cli_compile import compile_text
     from rdcd_core.diagnostics import Severity
@@ -74,7 +180,7 @@ def _compile(path: str):  # noqa: ANN202 - CompiledProgram | int
         text = read_source(path)
     except InputError as e:
         return _fail(str(e))
-    result, program, diagnostics = compile_text(text)
+    result, program, diagnostics = compile_text(text, target=target)
     errors = [d for d in diagnostics if d.severity is Severity.ERROR]
     for diagnostic in errors:
         sys.stderr.write(render_text(path, result, diagnostic))
@@ -98,16 +204,28 @@ def _progress_bar():  # noqa: ANN202
 
 
 def run(args: argparse.Namespace) -> int:
-    from sim.config import ConfigError, load_config
+    from rdcd_core.inputs import InputError
+    from rdcd_core.outputs import check_outputs
+    from sim.config import ConfigError, config_file, load_config
 
+    # everything that can be refused is, before the program is compiled and the world built
     problem = _check_options(args)
     if problem:
         return _fail(problem)
     try:
+        outputs = _output_paths(args)
+        config_path = config_file(args.config)
         structure = load_config(args.config)
-    except ConfigError as e:
+        problem = _physics_problem(structure) if args.world == "physics" else None
+        if problem:
+            return _fail(problem)
+        inputs = [("the program", args.file)]
+        if config_path is not None:
+            inputs.append(("the configuration file", str(config_path)))
+        check_outputs(outputs, inputs)
+    except (ConfigError, InputError) as e:
         return _fail(str(e))
-    program = _compile(args.file)
+    program = _compile(args.file, args.target or args.vm)
     if isinstance(program, int):
         return program
     from sim.robot import RobotError
@@ -115,28 +233,45 @@ def run(args: argparse.Namespace) -> int:
 
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
-                      progress=_progress_bar(), realtime=args.gui)
+                      progress=_progress_bar(), realtime=args.gui, vm=args.vm)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui
         return _fail(str(e))
+    except OSError as e:  # writing --record
+        return _fail(f"cannot write {args.record}: {_why(e)}")
     from sim.report import summary
 
+    # the files first: a closed standard output must not cost the user the run's results
+    written, problem = _write_outputs(args, report, structure)
     print(summary(report))
-    return _write_outputs(args, report, structure)
+    for line in written:
+        print(line)
+    return _fail(problem) if problem else 0
 
 
-def _write_outputs(args: argparse.Namespace, report: dict, structure) -> int:  # noqa: ANN001
+def _why(error: OSError) -> str:
+    from rdcd_core.inputs import describe_os_error
+
+    return describe_os_error(error)
+
+
+def _write_outputs(args: argparse.Namespace, report: dict, structure) -> tuple[list[str], str | None]:  # noqa: ANN001
+    """Writes --report and --plot (--record is written by the run): what to print, and the problem."""
+    from rdcd_core.outputs import write_atomically
+
+    written = [f"animation: {args.record}"] if args.record is not None else []
+    option, path = "--report", args.report
     try:
-        if args.report:
-            Path(args.report).write_text(json.dumps(report, indent=1) + "\n", encoding="utf-8")
-            print(f"report: {args.report}")
-        if args.plot:
+        if args.report is not None:
+            write_atomically(args.report, json.dumps(report, indent=1) + "\n")
+            written.append(f"report: {args.report}")
+        if args.plot is not None:
             from sim.plot import plot_report
+
+            option, path = "--plot", args.plot
             plot_report(report, structure, args.plot)
-            print(f"plot: {args.plot}")
-        if args.record:
-            print(f"animation: {args.record}")
+            written.append(f"plot: {args.plot}")
     except OSError as e:
-        return _fail(f"cannot write: {e}")
-    return 0
+        return written, f"{option} {path}: cannot write: {_why(e)}"
+    return written, None

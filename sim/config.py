@@ -9,16 +9,20 @@ sim/configs/README.md.
 from __future__ import annotations
 
 import json
+import os
 import random
 import re
+import stat
 from pathlib import Path
 from typing import Any
 
+from rdcd_core.inputs import describe_os_error, read_regular
 from vm import navigation
 from vm.lattice.mount import ALL_MOUNTS, IDENTITY, Mount
 from vm.lattice.structure import ModuleSpec, Structure, StructureError, make_structure
 
 CONFIG_DIR = Path(__file__).resolve().parent / "configs"
+MAX_SNAKE = 128  # the lattice world's limit; the physics world's is lower (sim.cli_simulate)
 _TOP_FIELDS = {"name", "about", "entry", "modules", "connections"}
 _MODULE_FIELDS = {"id", "position", "axis", "mount", "role_expected"}
 
@@ -31,26 +35,58 @@ def shipped_names() -> list[str]:
     return sorted(p.stem for p in CONFIG_DIR.glob("*.json"))
 
 
-def load_config(name_or_path: str | Path) -> Structure:
+def config_file(name_or_path: str | Path) -> Path | None:
+    """The file ``load_config`` reads for ``name_or_path`` (None for ``snakeN``); a ``ConfigError``
+    if there is none. A path is used as given; a bare name is a shipped configuration."""
     text = str(name_or_path)
-    path = Path(text)
-    if text and path.exists() and not path.is_file():
-        raise ConfigError(f"{text}: not a configuration file (a directory or a special file)")
-    if not path.is_file():
-        match = re.fullmatch(r"snake(\d+)", text)
-        if match:
-            return snake(int(match.group(1)))
-        path = CONFIG_DIR / (text if text.endswith(".json") else f"{text}.json")
-        if not path.is_file():
-            raise ConfigError(f"{text}: no such configuration file or shipped configuration "
-                              f"(shipped: {', '.join(shipped_names())}, snakeN)")
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        info = os.stat(text) if text else None
+    except FileNotFoundError:
+        info = None
+    except OSError as e:  # a loop of links, a name too long: said the way every command says it
+        raise ConfigError(f"cannot read {text}: {describe_os_error(e)}") from None
+    except ValueError:
+        raise ConfigError(f"{text!r}: a path cannot contain a NUL character") from None
+    if info is not None:
+        if not stat.S_ISREG(info.st_mode):
+            raise ConfigError(f"{text}: not a configuration file (a directory or a special file)")
+        return Path(text)
+    if re.fullmatch(r"snake[0-9]+", text):
+        return None
+    path = CONFIG_DIR / (text if text.endswith(".json") else f"{text}.json")
+    if "/" in text or os.sep in text or not path.is_file():
+        raise ConfigError(f"{text or repr(text)}: no such configuration file or shipped configuration "
+                          f"(shipped: {', '.join(shipped_names())}, snakeN){_broken_link(text)}")
+    return path
+
+
+def load_config(name_or_path: str | Path) -> Structure:
+    path = config_file(name_or_path)
+    if path is None:
+        digits = str(name_or_path)[len("snake"):]
+        if len(digits) > 6:  # int() refuses 4,300 digits
+            raise ConfigError(f"{name_or_path}: a snake has 1..{MAX_SNAKE} modules")
+        return snake(int(digits))
+    try:
+        # utf-8-sig: a byte order mark is accepted, as in a program
+        text = read_regular(str(path)).decode("utf-8-sig")
+    except OSError as e:
+        raise ConfigError(f"cannot read {path}: {describe_os_error(e)}") from None
+    except UnicodeDecodeError as e:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {e.start})") from None
+    try:
+        data = json.loads(text)
     except json.JSONDecodeError as e:
         raise ConfigError(f"{path}: invalid JSON at line {e.lineno} column {e.colno}: {e.msg}") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{path}: cannot read: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: invalid configuration: its JSON is nested too deeply") from None
+    except ValueError as e:  # an integer of thousands of digits
+        raise ConfigError(f"{path}: invalid JSON: {e}") from None
     return structure_from_json(data, source=str(path), default_name=path.stem)
+
+
+def _broken_link(text: str) -> str:
+    return " (a broken symbolic link)" if text and os.path.islink(text) else ""
 
 
 def structure_from_json(data: Any, *, source: str = "configuration", default_name: str = "") -> Structure:
@@ -157,8 +193,8 @@ def structure_to_json(structure: Structure, about: str = "") -> dict[str, Any]:
 
 def snake(n: int) -> Structure:
     """N modules in a line along +y on the ground: NS at (0, 2k, 0), EW at (1, 2k+1, 0)."""
-    if not 1 <= n <= 128:
-        raise ConfigError(f"snake{n}: a snake has 1..128 modules")
+    if not 1 <= n <= MAX_SNAKE:
+        raise ConfigError(f"snake{n}: a snake has 1..{MAX_SNAKE} modules")
     specs = []
     for i in range(n):
         if i % 2 == 0:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import matplotlib
@@ -11,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Rectangle  # noqa: E402
 
+from rdcd_core.outputs import write_with  # noqa: E402
 from sim import params  # noqa: E402
 from sim.geometry import lattice_to_world  # noqa: E402
 from sim.report import heading_change  # noqa: E402
@@ -86,6 +88,10 @@ def plot_report(report: dict[str, Any], structure: Structure | None, path: str) 
     ax.grid(True, linewidth=0.3)
     ax.legend(loc="best", fontsize=7, framealpha=0.85)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    try:
+        # the format named by the extension (checked by the command line), written atomically
+        picture_format = Path(path).suffix[1:].lower() or "png"
+        write_with(path, lambda file: fig.savefig(file, format=picture_format))
+    finally:
+        plt.close(fig)
 

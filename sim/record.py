@@ -8,6 +8,7 @@ import pybullet as pb
 from matplotlib.colors import to_rgb
 from PIL import Image
 
+from rdcd_core.outputs import write_with
 from sim.plot import ROLE_COLOURS
 from vm.roles import RoleTable
 
@@ -57,10 +58,12 @@ class GifRecorder:
         self.frames.append(image.quantize(colors=64))
 
     def save(self, path: str) -> None:
+        """Writes the GIF atomically (a temporary file beside ``path``, then renamed)."""
         if not self.frames:
             self.capture()
-        self.frames[0].save(path, save_all=True, append_images=self.frames[1:], duration=FRAME_MS, loop=0,
-                            optimize=True)
+        write_with(path, lambda file: self.frames[0].save(
+            file, format="GIF", save_all=True, append_images=self.frames[1:], duration=FRAME_MS, loop=0,
+            optimize=True))
 
 
 def _flat(rgba: object) -> list[int]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from collections import Counter
 from typing import TYPE_CHECKING, Any
 
@@ -19,6 +20,32 @@ def role_name(roles: RoleTable, role: int) -> str | None:
     return None if role == NO_ROLE else roles.name(role)
 
 
+def locate(program: CompiledProgram, code: bytes, pc: int | None) -> tuple[str | None, int | None]:
+    """The fragment that ``code`` is (or, for a handler or command body, lies in) and ``pc`` as an
+    offset in that fragment; (None, pc) when no fragment holds it."""
+    fragments = list(program.fragments)
+    for fragment in fragments:
+        if bytes(fragment.code) == code:
+            return fragment.name, pc
+    for fragment in fragments:
+        start = bytes(fragment.code).find(code) if code else -1
+        if start >= 0:
+            return fragment.name, None if pc is None else start + pc
+    return None, pc
+
+
+def _errors(program: CompiledProgram, rt: Any) -> list[dict[str, Any]]:
+    """A module's errors; those of program runs also name the fragment and the pc in it."""
+    places = {(e.t, e.message): locate(program, e.code, e.pc) for e in getattr(rt, "run_errors", [])}
+    out = []
+    for t, message in rt.errors:
+        entry: dict[str, Any] = {"t": round(t, 3), "message": message}
+        if (t, message) in places:
+            entry["fragment"], entry["pc"] = places[(t, message)]
+        out.append(entry)
+    return out
+
+
 def build_report(program: CompiledProgram, structure: Structure, roles: RoleTable, options: Options,
                  run: RunResult, wall_s: float) -> dict[str, Any]:
     modules = []
@@ -30,12 +57,14 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
             "orientation": AXIS_NAMES[spec.axis],
             "final_role": role_name(roles, rt.role),
             "role_history": [[round(t, 3), role_name(roles, r)] for t, r in rt.role_history],
-            "errors": [{"t": round(t, 3), "message": m} for t, m in rt.errors],
+            "errors": _errors(program, rt),
         })
     tracking = run.tracking
     detections = sum(1 for e in run.events if e["kind"] == "handler")
     report: dict[str, Any] = {
         "world": options.world,
+        "vm": options.vm,
+        "target": program.target,
         "config": structure.name or options.config,
         "obstacle": options.obstacle,
         "duration_s": options.duration,
@@ -77,7 +106,7 @@ def summary(report: dict[str, Any]) -> str:
     sizes = ", ".join(f"{f['name']} {f['size']}" for f in report["fragments"])
     total = sum(f["size"] for f in report["fragments"])
     lines = [
-        f"{report['config']} in the {report['world']} world, obstacle {report['obstacle']}, "
+        f"{report['config']} in the {report['world']} world{_vm(report)}, obstacle {report['obstacle']}, "
         f"{report['duration_s']:g} s, seed {report['seed']}",
         "roles: " + ", ".join(f"{n} × {name}" for name, n in sorted(roles.items())),
         f"fragments: {len(report['fragments'])}, {total} bytes ({sizes})",
@@ -96,5 +125,40 @@ def summary(report: dict[str, Any]) -> str:
     errors = sum(len(m["errors"]) for m in report["modules"])
     if errors:
         lines.append(f"runtime errors: {errors} (see the report)")
+        lines += _error_lines(report)
     lines.append(f"real-time factor: {report['real_time_factor']}× ({report['wall_time_s']:.1f} s wall)")
     return "\n".join(lines)
+
+
+def _vm(report: dict[str, Any]) -> str:
+    """The VM profile and the compile target, when they are not both the default."""
+    vm, target = report.get("vm", "default"), report.get("target", "default")
+    if vm == target == "default":
+        return ""
+    return f" ({vm} VM" + ("" if target == vm else f", program compiled for the {target} target") + ")"
+
+
+MAX_ERROR_LINES = 6
+_RUN_PREFIX = re.compile(r"^program \S+: (pc \d+: )?")
+
+
+def _error_lines(report: dict[str, Any]) -> list[str]:
+    """The first errors, one line per module and message; those of program runs with the
+    fragment and the pc in it."""
+    seen: dict[tuple[Any, ...], int] = {}
+    for m in report["modules"]:
+        for e in m["errors"]:
+            key = (m["id"], e.get("fragment", ""), e.get("pc"), e["message"], "fragment" in e)
+            seen[key] = seen.get(key, 0) + 1
+    lines = []
+    for (mid, fragment, pc, message, ran), n in list(seen.items())[:MAX_ERROR_LINES]:
+        times = f" (×{n})" if n > 1 else ""
+        if ran:
+            message = _RUN_PREFIX.sub("", message)  # the pc in it counts from a handler's own start
+            where = f", fragment {fragment or '?'}, pc {pc if pc is not None else '?'}"
+        else:
+            where = ""
+        lines.append(f"  module {mid}{where}: {message}{times}")
+    if len(seen) > MAX_ERROR_LINES:
+        lines.append(f"  … and {len(seen) - MAX_ERROR_LINES} more")
+    return lines

@@ -170,6 +170,11 @@ def _lift(structure: Structure) -> float:
     return -lowest + params.SPAWN_CLEARANCE
 
 
+def rigid_part_count(structure: Structure) -> int:
+    """How many rigid parts (PyBullet links) ``build_robot`` would make of ``structure``."""
+    return len(_plan(structure, rigid_groups(structure)).order)
+
+
 def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> Robot:
     """Create the structure's multibody in ``client``; the entry module's centre at x = y = 0."""
     groups = rigid_groups(structure)

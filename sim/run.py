@@ -15,6 +15,7 @@ from rdcd_core.compiler.program import CompiledProgram
 from sim import params
 from sim.obstacles import Box, parse_obstacle
 from sim.report import build_report
+from vm.isa.targets import TARGETS
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
 
@@ -35,6 +36,7 @@ class Options:
     record: str | None = None
     progress: Progress | None = None
     realtime: bool = False  # pace the GUI at wall-clock speed
+    vm: str = "default"  # the VM profile every module runs: a name in vm.isa.targets.TARGETS
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -45,6 +47,8 @@ def role_table(program: CompiledProgram) -> RoleTable:
 
 
 def simulate(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
+    if options.vm not in TARGETS:
+        raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
     boxes = parse_obstacle(options.obstacle)
     roles = role_table(program)
     start = time.perf_counter()
@@ -108,7 +112,7 @@ def _run_physics(program: CompiledProgram, structure: Structure, roles: RoleTabl
                          gui=options.gui, visuals=bool(options.record))
     try:
         events: list[dict[str, Any]] = []
-        runtimes = world.add_runtimes(roles, options.seed)
+        runtimes = world.add_runtimes(roles, options.seed, TARGETS[options.vm])
         for mid, runtime in runtimes.items():
             runtime.on_event = _recorder(events, lambda: world.time, mid)
         world.on_detection = lambda mid, k: events.append(
@@ -148,7 +152,7 @@ def _run_lattice(program: CompiledProgram, structure: Structure, roles: RoleTabl
     world = LatticeWorld(structure, roles, seed=options.seed, packet_loss=options.packet_loss,
                          latency_s=params.IR_LATENCY_S,
                          joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
-                         obstacles=_lattice_cells(boxes, structure))
+                         obstacles=_lattice_cells(boxes, structure), target=TARGETS[options.vm])
     events: list[dict[str, Any]] = []
     for mid, runtime in world.runtimes.items():
         runtime.on_event = _recorder(events, world.now, mid)

@@ -23,6 +23,7 @@ from sim.obstacles import Box, create_bodies
 from sim.poses import link_poses, quat_matrix, to_world
 from sim.robot import Robot, build_robot
 from sim.sensors import Sensors
+from vm.isa.targets import DEFAULT, Target
 from vm.lattice.network import Network
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
@@ -82,9 +83,9 @@ class PhysicsWorld:
             pb.disconnect(self.client)
 
     # --- VMs -------------------------------------------------------------------------------
-    def add_runtimes(self, roles: RoleTable, seed: int) -> dict[int, ModuleRuntime]:
+    def add_runtimes(self, roles: RoleTable, seed: int, target: Target = DEFAULT) -> dict[int, ModuleRuntime]:
         for mid, hal in self.hals.items():
-            self.runtimes[mid] = ModuleRuntime(hal, roles, module_id=mid, seed=seed)
+            self.runtimes[mid] = ModuleRuntime(hal, roles, module_id=mid, seed=seed, target=target)
         return self.runtimes
 
     def vm_tick(self) -> None:

@@ -1,9 +1,13 @@
 """The DCD-VM dispatch loop: runs one program (a ``Frame``) against a ``Machine`` (the module).
 
 A run ends with an ``Outcome``: terminate, repeat, migrate, sleep (one second), sleep for joint
-turns, or a runtime error (stack under/overflow, more than 255 instructions, bad operand). A
-suspended frame keeps its pc and stack and is resumed by the runtime. Values are signed bytes.
-The interpreter never raises for any code: unverified bytes end in an error outcome.
+turns, a runtime error (stack under/overflow, too many instructions, bad operand), or a halt of the
+whole module (the firmware's reaction to an instruction it does not execute). A suspended frame
+keeps its pc and stack and is resumed by the runtime. Values are signed bytes. The interpreter
+never raises for any code: unverified bytes end in an error outcome.
+
+The ``Target`` (vm.isa.targets) is the VM profile: which opcodes execute, the stack depth, the
+instructions per run and the firmware's quirks in what an instruction does (dcd-vm.md §10).
 """
 
 from __future__ import annotations
@@ -12,8 +16,10 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
 
-from vm.isa.opcodes import BY_OPCODE, MAX_STACK, MAX_STEPS_PER_RUN, PUSH_SMALL_BASE, signed_byte
+from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE, signed_byte
+from vm.isa.targets import DEFAULT, Target
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
+from vm.roles import ANY_ROLE
 
 
 class Outcome(Enum):
@@ -23,6 +29,7 @@ class Outcome(Enum):
     SLEEP = "sleep"
     SLEEP_ROTATIONS = "sleep_rotations"
     ERROR = "error"
+    HALT = "halt"  # the module stops (firmware profile): nothing runs or is received any more
 
 
 @dataclass
@@ -38,7 +45,8 @@ class Frame:
 class Result:
     outcome: Outcome
     turns: int = 0  # SLEEP_ROTATIONS: full joint turns to wait
-    message: str = ""  # ERROR: what went wrong
+    message: str = ""  # ERROR, HALT: what went wrong
+    pc: int | None = None  # ERROR, HALT: offset of the failing instruction in the running code
 
 
 class Machine(Protocol):
@@ -47,6 +55,7 @@ class Machine(Protocol):
     def axis_code(self) -> int: ...
     def coords(self) -> tuple[int, int, int]: ...
     def connected_virtual(self) -> int: ...
+    def connected_physical(self) -> int: ...
     def facing(self, direction: int) -> int: ...
     def has_role(self, role: int) -> bool: ...
     def connected_role(self, direction: int, role: int) -> int: ...
@@ -65,6 +74,10 @@ class Machine(Protocol):
 class VMError(Exception):
     """A runtime error of the running program (caught by ``run``, reported by the runtime)."""
 
+    def __init__(self, message: str, *, halts: bool = False) -> None:
+        super().__init__(message)
+        self.halts = halts  # the firmware stops the module instead of ending the run
+
 
 _ROLE_DIRS = {f"CONNECTED_{DIRECTION_NAMES[d]}_ROLE": d for d in DIRECTIONS}
 _AXIS_OPS = {f"CENTER_POSITION_{AXIS_NAMES[a]}": a for a in AXES}
@@ -78,20 +91,23 @@ _ENDINGS = {"END_TERMINATE": Outcome.TERMINATE, "END_REPEAT": Outcome.REPEAT,
             "MIGRATE_CONTINUE": Outcome.MIGRATE}
 
 
-def run(frame: Frame, m: Machine) -> Result:
-    """Run ``frame`` until it ends or suspends, at most 255 instructions."""
+def run(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result:
+    """Run ``frame`` until it ends or suspends, at most ``target.max_steps_per_run`` instructions."""
+    at = frame.pc
     try:
-        for _ in range(MAX_STEPS_PER_RUN):
-            result = _step(frame, m)
+        for _ in range(target.max_steps_per_run):
+            at = frame.pc
+            result = _step(frame, m, target)
             if result is not None:
                 return result
-        return Result(Outcome.ERROR, message=f"more than {MAX_STEPS_PER_RUN} instructions in one run")
+        return Result(Outcome.ERROR, message=f"more than {target.max_steps_per_run} instructions in one run",
+                      pc=frame.pc)
     except VMError as e:
-        return Result(Outcome.ERROR, message=f"pc {frame.pc}: {e}")
+        return Result(Outcome.HALT if e.halts else Outcome.ERROR, message=f"pc {at}: {e}", pc=at)
 
 
-def _push(frame: Frame, value: int) -> None:
-    if len(frame.stack) >= MAX_STACK:
+def _push(frame: Frame, value: int, target: Target) -> None:
+    if len(frame.stack) >= target.max_stack:
         raise VMError("stack overflow")
     frame.stack.append(signed_byte(value))
 
@@ -102,7 +118,7 @@ def _pop(frame: Frame) -> int:
     return frame.stack.pop()
 
 
-def _fetch(frame: Frame) -> tuple[str, int, tuple[int, ...]]:
+def _fetch(frame: Frame, target: Target) -> tuple[str, int, tuple[int, ...]]:
     """(name, opcode, operands) of the instruction at pc; advances pc. A push is named PUSH."""
     code, pc = frame.code, frame.pc
     if not 0 <= pc < len(code):
@@ -112,6 +128,9 @@ def _fetch(frame: Frame) -> tuple[str, int, tuple[int, ...]]:
         frame.pc = pc + 1
         return "PUSH", op, ()
     ins = BY_OPCODE.get(op)
+    if not target.implements(op):
+        name = f" ({ins.name})" if ins else ""
+        raise VMError(f"unknown instruction {op}{name}", halts=target.quirks.unknown_instruction_halts)
     if ins is None:
         raise VMError(f"unknown opcode {op}")
     if pc + ins.size > len(code):
@@ -132,25 +151,44 @@ def _direction(d: int) -> int:
     return d
 
 
-def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispatch table
+def _connected(m: Machine, target: Target) -> int:
+    """CONNECTED: virtual channels; the firmware sets bit p+1 for physical channel p (7 is lost)."""
+    if target.quirks.connected_physical_bits:
+        return (m.connected_physical() << 1) & 0xFF
+    return m.connected_virtual()
+
+
+def _connected_dir_sizeof(m: Machine, d: int, target: Target) -> int:
+    """The number of connected channels facing d; the firmware pushes the bits set *in that count*
+    and knows only some axis/direction pairs (the others halt it)."""
+    q = target.quirks
+    if q.connected_dir_sizeof_limited and not target.dir_sizeof_runs(m.axis_code(), d):
+        axis = AXIS_NAMES.get(m.axis_code(), "unknown")
+        raise VMError(f"CONNECTED_DIR_SIZEOF {DIRECTION_NAMES[d]} is not supported on a {axis} module",
+                      halts=q.unknown_instruction_halts)
+    count = (m.connected_virtual() & m.facing(d)).bit_count()
+    return count.bit_count() if q.connected_dir_sizeof_popcount_of_count else count
+
+
+def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None:  # noqa: C901 - one dispatch table
     at = frame.pc
-    name, op, a = _fetch(frame)
+    name, op, a = _fetch(frame, target)
     if frame.debug:
         m.trace(frame, f"{at}: {name} {list(a)} stack={frame.stack}")
     if name == "PUSH":
-        _push(frame, op - PUSH_SMALL_BASE)
+        _push(frame, op - PUSH_SMALL_BASE, target)
     elif name in _AXIS_OPS:
-        _push(frame, int(m.axis_code() == _AXIS_OPS[name]))
+        _push(frame, int(m.axis_code() == _AXIS_OPS[name]), target)
     elif name == "CONNECTED":
-        _push(frame, m.connected_virtual())
+        _push(frame, _connected(m, target), target)
     elif name == "CONNECTED_SIZEOF":
-        _push(frame, m.connected_virtual().bit_count())
+        _push(frame, m.connected_virtual().bit_count(), target)
     elif name in _EQUALS:
-        _push(frame, int(_pop(frame) == _EQUALS[name]))
+        _push(frame, int(_pop(frame) == _EQUALS[name]), target)
     elif name == "CONNECTED_DIR":
-        _push(frame, m.connected_virtual() & m.facing(_direction(a[0])))
+        _push(frame, m.connected_virtual() & m.facing(_direction(a[0])), target)
     elif name == "CONNECTED_DIR_SIZEOF":
-        _push(frame, (m.connected_virtual() & m.facing(_direction(a[0]))).bit_count())
+        _push(frame, _connected_dir_sizeof(m, _direction(a[0]), target), target)
     elif name in _ENDINGS:
         return Result(_ENDINGS[name])
     elif name in ("IF_FALSE_GOTO", "IF_TRUE_GOTO"):
@@ -161,17 +199,17 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
     elif name == "SET_ROLE_NOTIFY":
         m.set_role_notify(a[0])
     elif name in _COORDS:
-        _push(frame, m.coords()[_COORDS[name]])
+        _push(frame, m.coords()[_COORDS[name]], target)
     elif name in _COMPARE:
         b = _pop(frame)
-        _push(frame, int(_COMPARE[name](_pop(frame), b)))
+        _push(frame, int(_COMPARE[name](_pop(frame), b)), target)
     elif name in _ARITH:
         b = _pop(frame)
-        _push(frame, _ARITH[name](_pop(frame), b))
+        _push(frame, _ARITH[name](_pop(frame), b), target)
     elif name in _COORD_CMP:
         axis, greater = _COORD_CMP[name]
         value, coord = _pop(frame), m.coords()[axis]
-        _push(frame, int(coord > value if greater else coord < value))
+        _push(frame, int(coord > value if greater else coord < value), target)
     elif name == "HANDLE_EVENT":
         if a[0] > 7:
             raise VMError(f"bad event {a[0]}")
@@ -183,11 +221,11 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
     elif name == "EVAL_COMMAND":
         m.eval_command(a[0], signed_byte(a[1]))
     elif name == "HAS_ROLE":
-        _push(frame, int(m.has_role(a[0])))
+        _push(frame, int(m.has_role(a[0])), target)
     elif name == "CONNECTED_ROLE":
-        _push(frame, m.connected_role(_direction(a[0]), a[1]))
+        _push(frame, m.connected_role(_direction(a[0]), a[1]), target)
     elif name in _ROLE_DIRS:
-        _push(frame, int(m.connected_role(_ROLE_DIRS[name], a[0]) != 0))
+        _push(frame, int(m.connected_role(_ROLE_DIRS[name], a[0]) != 0), target)
     elif name == "INSTALL_COMMAND":
         m.install_command(a[0], a[1], _embedded(frame, a[2], a[3]))
     elif name == "SLEEP":
@@ -199,20 +237,23 @@ def _step(frame: Frame, m: Machine) -> Result | None:  # noqa: C901 - one dispat
     elif name == "SLEEP_ROTATIONS":
         return Result(Outcome.SLEEP_ROTATIONS, turns=signed_byte(a[0]))
     elif name == "SIZEOF":
-        _push(frame, (_pop(frame) & 0xFF).bit_count())
+        _push(frame, (_pop(frame) & 0xFF).bit_count(), target)
     elif name == "NEGATE":
-        _push(frame, -_pop(frame))
+        _push(frame, -_pop(frame), target)
     elif name == "ACTIVATE_DEBUG":
         frame.debug = True
     elif name == "APPLY":
         f = _pop(frame)
         arg = _pop(frame)
-        m.eval_command(f & 0xFF, arg)
-        _push(frame, 0)
+        if f == 64 and target.quirks.apply_64_broadcasts:
+            m.send_command(ANY_ROLE, arg & 0xFF, 0)  # the firmware's broadcast: command a, every role
+        else:
+            m.eval_command(f & 0xFF, arg)
+        _push(frame, 0, target)
     elif name == "PUSH_ARGUMENT":
-        _push(frame, frame.arg)
+        _push(frame, frame.arg, target)
     elif name == "PUSHC":
-        _push(frame, signed_byte(a[0]))
+        _push(frame, signed_byte(a[0]), target)
     elif name == "SET_LED":
         m.set_led(signed_byte(a[0]))
     elif name == "SEND_COMMAND_STACK_ARG":

@@ -65,10 +65,18 @@ def offset(axis: int, vch: int) -> Vec:
     return _TABLE[axis][vch][0]
 
 
-def receiver(x: int, y: int, z: int, axis: int, vch: int) -> tuple[int, int, int, int, int]:
-    """(rx, ry, rz, raxis, rvch) of the neighbour reached by sending on virtual channel ``vch``."""
+def receiver(x: int, y: int, z: int, axis: int, vch: int, *, ud_offsets_swapped: bool = False
+             ) -> tuple[int, int, int, int, int]:
+    """(rx, ry, rz, raxis, rvch) of the neighbour reached by sending on virtual channel ``vch``.
+    ``ud_offsets_swapped``: the original VM's bug (dcd-vm.md §5, §10), the x-offsets of a UD
+    sender's channels 5 and 7 exchanged, so the receiver is told a wrong x."""
     (dx, dy, dz), raxis, rvch = _TABLE[axis][vch]
+    if ud_offsets_swapped and axis == UP_DOWN and vch in _UD_SWAPPED:
+        dx = _TABLE[UP_DOWN][_UD_SWAPPED[vch]][0][0]
     return x + dx, y + dy, z + dz, raxis, rvch
+
+
+_UD_SWAPPED = {5: 7, 7: 5}  # the UD channels whose x-offsets the original VM exchanged
 
 
 def channels_facing(axis: int, direction: int) -> int:

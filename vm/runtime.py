@@ -3,7 +3,8 @@
 A world creates ``ModuleRuntime(hal, role_table, module_id=...)`` per module, calls
 ``receive(physical_channel, packet)`` on delivery and ``step()`` every tick; the entry module gets
 ``inject(fragment)``. Observable: ``role``, ``position``, ``axis``, ``mapping`` (virtual→physical),
-``errors`` [(t, message)], ``role_history`` [(t, role)], ``event_log`` [(t, kind, detail)] and
+``errors`` [(t, message)], ``run_errors`` (the errors of program runs with the code and pc),
+``halted``, ``role_history`` [(t, role)], ``event_log`` [(t, kind, detail)] and
 the optional hook ``on_event(kind, detail)``; kinds: "role", "handler" (an event handler fired: a
 detection), "command" (a command executed here), "program" (a program stored and queued),
 "error", "trace" (ACTIVATE_DEBUG).
@@ -17,9 +18,17 @@ runs every due task once (at most 255 instructions per run; SLEEP and SLEEP_ROTA
 frame and resume it when due, with a fresh instruction budget). Handlers run with the event number
 as argument; a handler fires when its sensor sees an object, once per detection: it is re-armed
 when the sensor clears or when a disabled event is enabled again.
+
+VM profile: ``target`` (vm.isa.targets) says which opcodes run, the limits, and the firmware's
+quirks (dcd-vm.md §10) that the scheduler and the network side reproduce: handlers that run with
+argument 0 on every step while their sensor sees, ENABLE_EVENT toggling, a module that halts on
+an instruction it does not know, no duplicate suppression, no acknowledgements, the UD 5/7
+offsets. The default target is this project's corrected VM.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 from vm import navigation as nav
 from vm.hal import ModuleHal
@@ -34,17 +43,31 @@ from vm.isa.opcodes import (
     USER_COMMAND_BASE,
     USER_COMMAND_NUMBERS,
 )
+from vm.isa.targets import DEFAULT, Target
 from vm.packets import NOTIFY
 from vm.roles import RoleTable
-from vm.runtime_node import ModuleNode
+from vm.runtime_node import MAX_LOG, ModuleNode
 from vm.runtime_store import HANDLER, USER_COMMAND, Slot, StoreFull, Task
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 
 
+@dataclass(frozen=True)
+class RunError:
+    """A program run that ended in an error (or halted the module): where, for reports."""
+
+    t: float
+    message: str
+    code: bytes  # the code that was running (a fragment, or a handler / command body)
+    pc: int | None  # offset of the failing instruction in ``code``
+    halted: bool
+
+
 class ModuleRuntime(ModuleNode):
     def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
-                 checksum: bool = False) -> None:
-        super().__init__(hal, role_table, module_id=module_id, seed=seed, checksum=checksum)
+                 checksum: bool = False, target: Target = DEFAULT) -> None:
+        super().__init__(hal, role_table, module_id=module_id, seed=seed, checksum=checksum, target=target)
+        self.run_errors: list[RunError] = []
+        self.handler_refires = 0  # firmware profile: handler runs after the first of a detection
         self.role_history: list[tuple[float, int]] = []
         self.led = 0
         self.programs_run = 0  # received or injected programs that started (each counted once)
@@ -55,17 +78,20 @@ class ModuleRuntime(ModuleNode):
     def needs_step(self, events: bool = True) -> bool:
         """Whether ``step`` has anything to do (received packets, retries, tasks, or — when
         ``events`` — installed event handlers to poll); a world may skip idle modules."""
-        return bool(self._inbox or self.link.outbox or self.store.tasks
-                    or (events and any(v is not None for v in self.store.vectors)))
+        return not self.halted and bool(self._inbox or self.link.outbox or self.store.tasks
+                                        or (events and any(v is not None for v in self.store.vectors)))
 
     def stats(self) -> dict[str, int]:
         """Counters for reports: packets sent (with retries), retransmissions, duplicates..."""
         return {"sent": self.link.sent, "retransmissions": self.link.retransmissions,
                 "given_up": self.link.given_up, "outbox_overflows": self.link.overflows,
                 "duplicates": self.duplicates, "bad_packets": self.bad_packets,
-                "programs_run": self.programs_run, "runs": self.runs, "errors": len(self.errors)}
+                "programs_run": self.programs_run, "runs": self.runs, "errors": len(self.errors),
+                "handler_refires": self.handler_refires}
 
     def step(self) -> None:
+        if self.halted:
+            return
         try:
             while self._inbox:
                 self._handle_packet(*self._inbox.popleft())
@@ -78,25 +104,34 @@ class ModuleRuntime(ModuleNode):
 
     # ---- scheduler -------------------------------------------------------------------------
     def _check_events(self) -> None:
+        refires = self.target.quirks.handler_refires_with_zero
         for k, vec in enumerate(self.store.vectors):
             if vec is None:
                 continue
             if not self.hal.proximity(k):
                 vec.armed = True
                 continue
-            if not (vec.enabled and vec.armed) or any(t.slot is vec.slot for t in self.store.tasks):
+            if not vec.enabled or any(t.slot is vec.slot for t in self.store.tasks):
+                continue
+            if not (vec.armed or refires):
                 continue
             try:
-                self.store.queue(Task(vec.slot, arg=k))
+                # the firmware starts a handler with argument 0 and again on every step it sees
+                self.store.queue(Task(vec.slot, arg=0 if refires else k))
             except StoreFull as e:
                 self._error(f"handler of event {k} not run: {e}")
                 continue
+            if vec.armed:  # a detection: logged once, re-runs of the same detection are counted
+                self._log("handler", {"event": k})
+            else:
+                self.handler_refires += 1
             vec.armed = False
-            self._log("handler", {"event": k})
 
     def _run_tasks(self) -> None:
         now = self.hal.now()
         for task in list(self.store.tasks):
+            if self.halted:
+                return
             if task not in self.store.tasks or not self._due(task, now):
                 continue
             task.wake_time = task.wake_turns = None
@@ -110,7 +145,7 @@ class ModuleRuntime(ModuleNode):
                 if task.slot.kind == PROGRAM_SLOT and not task.slot.started:
                     task.slot.started = True
                     self.programs_run += 1
-            self._finish(task, run(task.frame, self))
+            self._finish(task, run(task.frame, self, self.target))
 
     def _due(self, task: Task, now: float) -> bool:
         if task.wake_time is not None:
@@ -135,9 +170,20 @@ class ModuleRuntime(ModuleNode):
         self.store.tasks.remove(task)
         if result.outcome is Outcome.MIGRATE and slot is not None:
             self._migrate(slot)
-        elif result.outcome is Outcome.ERROR:
-            self._error(f"program {slot.ident if slot else '?'}: {result.message}")
+        elif result.outcome in (Outcome.ERROR, Outcome.HALT):
+            self._run_error(task, result)
         self.store.release_after_run(slot)
+
+    def _run_error(self, task: Task, result: Result) -> None:
+        halted = result.outcome is Outcome.HALT
+        message = f"program {task.slot.ident if task.slot else '?'}: {result.message}"
+        if halted:
+            message += "; module halted"
+            self.halted = True
+        self.run_errors.append(RunError(self.hal.now(), message, task.slot.code if task.slot else b"",
+                                        result.pc, halted))
+        del self.run_errors[:-MAX_LOG]
+        self._error(message)
 
     def _run_command(self, command: int, arg: int) -> None:
         """Execute a command here: built-ins drive the joint, user commands queue their program."""
@@ -177,6 +223,9 @@ class ModuleRuntime(ModuleNode):
                 mask |= 1 << self._p2v[ch]
         return mask
 
+    def connected_physical(self) -> int:
+        return sum(1 << ch for ch in self.hal.connected_channels() if 0 <= ch <= 7)
+
     def facing(self, direction: int) -> int:
         return nav.channels_facing(self.axis, direction) if self.axis else 0
 
@@ -211,6 +260,8 @@ class ModuleRuntime(ModuleNode):
     def enable_event(self, event: int, enabled: bool) -> None:
         vec = self.store.vectors[event] if 0 <= event < 8 else None
         if vec is not None:
+            if enabled and self.target.quirks.enable_event_toggles:
+                enabled = not vec.enabled  # the firmware flips the disabled flag
             if enabled and not vec.enabled:
                 vec.armed = True  # a new detection may start
             vec.enabled = enabled

@@ -18,6 +18,9 @@ Program packets travel in order on each link: a program packet is held back whil
 on the same channel is still unacknowledged, and released when that one is acknowledged (or given
 up). By induction every module then accepts fragments in the order they were injected, also under
 loss and in cyclic structures, so a discovery fragment never overtakes the fragments it follows.
+
+``acknowledged=False`` is the original firmware (dcd-vm.md §6, §10): every packet is sent once,
+nothing is acknowledged or retransmitted, and a lost packet stays lost.
 """
 
 from __future__ import annotations
@@ -45,8 +48,10 @@ class Pending:
 
 
 class Link:
-    def __init__(self, hal: ModuleHal, rng: random.Random, *, checksum: bool = False) -> None:
+    def __init__(self, hal: ModuleHal, rng: random.Random, *, checksum: bool = False,
+                 acknowledged: bool = True) -> None:
         self.hal = hal
+        self.acknowledged = acknowledged
         self.checksum = checksum
         self.rng = rng
         self.outbox: list[Pending] = []
@@ -57,6 +62,9 @@ class Link:
 
     def send(self, channel: int, packet: bytes) -> None:
         """Send reliably: keep the packet until acknowledged or out of tries."""
+        if not self.acknowledged:
+            self._transmit(channel, packet)
+            return
         if packet[0] == NOTIFY:
             self.outbox = [p for p in self.outbox if not (p.channel == channel and p.packet[0] == NOTIFY)]
         if len(self.outbox) >= MAX_OUTBOX:
@@ -69,6 +77,8 @@ class Link:
 
     def send_ack(self, channel: int, packet: bytes) -> None:
         """Acknowledge a received packet (acks themselves are not acknowledged)."""
+        if not self.acknowledged:
+            return
         self._transmit(channel, encode(AckPacket(make_header(ACK, packet[1]), packet[0], crc8(packet))))
 
     def on_ack(self, channel: int, ack: AckPacket) -> None:

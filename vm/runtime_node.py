@@ -15,6 +15,13 @@ Fault tolerance (dcd-vm.md §6), in two parts:
   commands it has seen (for ``COMMAND_MEMORY`` seconds, as command ids wrap), so copies arriving
   through cycles, retries or delayed packets are acknowledged but never run again. Notifies carry
   a per-sender sequence number in the id; an older one never overwrites a newer role.
+
+The firmware profile (``target`` with vm.isa.targets quirks, dcd-vm.md §10) has neither: packets
+are sent once and never acknowledged, every program and command packet that arrives is run or
+forwarded again (so they circulate in cyclic structures until a store or queue overflows), a
+halted module hears nothing, and receivers' coordinates are computed with the UD 5/7 x-offsets
+swapped. Its receipt check is structural only (``verify`` without a target), so an opcode the
+firmware lacks reaches the interpreter and halts the module as on the robot.
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ from collections.abc import Callable
 
 from vm import navigation as nav
 from vm.hal import ModuleHal
+from vm.isa.targets import DEFAULT, Target
 from vm.isa.verifier import verify
 from vm.packets import (
     COMMAND,
@@ -52,8 +60,10 @@ EventHook = Callable[[str, dict[str, object]], None]
 
 class ModuleNode:
     def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
-                 checksum: bool = False) -> None:
+                 checksum: bool = False, target: Target = DEFAULT) -> None:
         self.hal = hal
+        self.target = target
+        self.halted = False  # firmware profile: an unknown instruction stopped this module
         self.checksum = checksum
         self.roles = role_table
         self.module_id = module_id
@@ -67,8 +77,8 @@ class ModuleNode:
         self.event_log: list[tuple[float, str, dict[str, object]]] = []
         self.on_event: EventHook | None = None
         self.neighbour_roles = [0] * 8  # by virtual channel
-        self.store = Store()
-        self.link = Link(hal, self.rng, checksum=checksum)
+        self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
+        self.link = Link(hal, self.rng, checksum=checksum, acknowledged=not target.quirks.no_acknowledgements)
         self.bad_packets = 0
         self.duplicates = 0
         self._inbox: deque[tuple[int, bytes]] = deque()
@@ -81,6 +91,8 @@ class ModuleNode:
 
     # ---- world interface -------------------------------------------------------------------
     def receive(self, physical_channel: int, packet: bytes) -> None:
+        if self.halted:
+            return
         if len(self._inbox) >= MAX_INBOX:
             self._error("receive buffer full, packet dropped")
             return
@@ -140,7 +152,7 @@ class ModuleNode:
     def _accept_program(self, code: bytes, ident: int, ch: int | None, vch: int | None) -> bool:
         """Store and queue a program; False when it should be offered again later (no room)."""
         key = (ident, code)
-        if key in self._seen_programs:
+        if key in self._seen_programs and not self.target.quirks.no_duplicate_suppression:
             self.duplicates += 1
             return True
         problems = verify(code)
@@ -165,7 +177,7 @@ class ModuleNode:
 
     def _accept_command(self, p: CommandPacket, ch: int) -> None:
         key = (p.header.id, p.role, p.command, p.argument & 0xFF)
-        if key in self._seen_commands:
+        if key in self._seen_commands and not self.target.quirks.no_duplicate_suppression:
             self.duplicates += 1
             return
         self._seen_commands[key] = self.hal.now()
@@ -188,7 +200,8 @@ class ModuleNode:
         for ch in sorted(self.hal.connected_channels()):
             if ch == exclude or not 0 <= ch <= 7:
                 continue
-            rx, ry, rz, raxis, rvch = nav.receiver(x, y, z, self.axis, self._p2v[ch])
+            rx, ry, rz, raxis, rvch = nav.receiver(x, y, z, self.axis, self._p2v[ch],
+                                                   ud_offsets_swapped=self.target.quirks.ud_offsets_swapped)
             self.link.send(ch, header_bytes(make_header(type_, ident, rx, ry, rz, raxis, rvch)) + body)
 
     def _migrate(self, slot: Slot) -> None:

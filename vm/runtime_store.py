@@ -54,12 +54,14 @@ class Store:
     tasks: list[Task] = field(default_factory=list)
     vectors: list[Vector | None] = field(default_factory=lambda: [None] * VECTORS)
     commands: dict[int, list[Slot | None]] = field(default_factory=dict)
+    capacity: int = SLOTS  # program slots (the target's, vm.isa.targets)
+    slot_bytes: int = SLOT_BYTES
 
     def add_slot(self, slot: Slot) -> Slot:
-        if len(slot.code) > SLOT_BYTES:
-            raise StoreFull(f"program of {len(slot.code)} bytes exceeds the {SLOT_BYTES}-byte slot")
-        if len(self.slots) >= SLOTS:
-            raise StoreFull(f"all {SLOTS} program slots are in use")
+        if len(slot.code) > self.slot_bytes:
+            raise StoreFull(f"program of {len(slot.code)} bytes exceeds the {self.slot_bytes}-byte slot")
+        if len(self.slots) >= self.capacity:
+            raise StoreFull(f"all {self.capacity} program slots are in use")
         self.slots.append(slot)
         return slot
 

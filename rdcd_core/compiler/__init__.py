@@ -11,13 +11,15 @@ from __future__ import annotations
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic codes)
 from rdcd_core.compiler.context import Context
+from rdcd_core.compiler.discovery import invariants, role_mask
 from rdcd_core.compiler.entry import assign_command_numbers
-from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit, role_id_limit
+from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit
+from rdcd_core.compiler.lowering import axis_states
 from rdcd_core.compiler.plan import plan
 from rdcd_core.compiler.program import (
     DEFAULT_PACKET_BUDGET,
     HEADER_BYTES,
-    MAX_PROGRAM_BYTES,
+    MAX_PROGRAM_BYTES,  # noqa: F401  (part of the package's interface)
     CompiledProgram,
     Fragment,
     RoleEntry,
@@ -26,45 +28,66 @@ from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.compiler.verify import verify_fragments
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex
+from vm.isa.targets import DEFAULT, ORIGINAL, TARGETS, Target
 
-__all__ = ["CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
-           "compile_model", "target_diagnostics"]
+__all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
+           "compile_model", "resolve_target", "target_diagnostics"]
 
 
 def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
-                  text: str | None = None) -> CompiledProgram:
-    """Compiles a checked model. With errors in the model, returns an empty program.
+                  text: str | None = None, target: Target | str | None = None) -> CompiledProgram:
+    """Compiles a checked model for ``target`` (a ``vm.isa.targets`` description or its name;
+    default: this project's VM; ``strict_isa`` is the old name of the original target). With
+    errors in the model, returns an empty program.
 
     ``diagnostics`` holds the compiler's own (E6xx/W6xx), not the model's. Pass the source
     ``text`` to get line numbers in the source maps.
     """
+    chosen = resolve_target(target, strict_isa)
     if model.has_errors:
-        return CompiledProgram([], [], [], packet_budget)
+        return CompiledProgram([], [], [], packet_budget, target=chosen.name)
     table = build_role_table(model)
     commands = assign_command_numbers(model)
-    found = role_id_limit(model, table) + command_limit(model, commands)
-    ctxs = {role: Context(model, table, role, strict_isa, command_numbers=commands)
+    found = command_limit(model, commands)  # role ids: the checker's E120 counts the table's
+    ctxs = {role: Context(model, table, role, command_numbers=commands, target=chosen)
             for role in model.deployment}
+    for ctx in ctxs.values():  # a role's code runs on the axes its invariants allow
+        ctx.states = axis_states(model, ctx.role, role_mask(invariants(ctx), ctx, local_only=True))
     # a fragment must fit its packet and a program slot, however large the packets may be
-    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, MAX_PROGRAM_BYTES))
+    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes))
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
-    found.extend(program_limit(model))
+    found.extend(program_limit(model, chosen.program_slots))
     found.extend(mixin_methods(model))
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code
-        found.extend(verify_fragments(planner.fragments, strict_isa))
+        found.extend(verify_fragments(planner.fragments, chosen))
     if text is not None:
         add_source_lines(planner.fragments, LineIndex(text))
     names = [f.name for f in planner.fragments]
-    return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found))
+    return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found),
+                           target=chosen.name)
 
 
-def target_diagnostics(model: Model, packet_budget: int = DEFAULT_PACKET_BUDGET) -> list[diag.Diagnostic]:
+def resolve_target(target: Target | str | None, strict_isa: bool = False) -> Target:
+    """The target description for a name (``TARGETS``), a description, or None (``strict_isa``:
+    the original firmware, the only target that refuses the extensions). Unknown names raise
+    ValueError; the CLI offers only known ones."""
+    if isinstance(target, Target):
+        return target
+    if target is None:
+        return ORIGINAL if strict_isa else DEFAULT
+    if target not in TARGETS:
+        raise ValueError(f"unknown target {target!r}; known: {', '.join(TARGETS)}")
+    return TARGETS[target]
+
+
+def target_diagnostics(model: Model, packet_budget: int = DEFAULT_PACKET_BUDGET,
+                       target: Target | str | None = None) -> list[diag.Diagnostic]:
     """The §6 target limits of ``model`` (empty when the model has errors)."""
     if model.has_errors:
         return []
-    return compile_model(model, packet_budget=packet_budget).diagnostics
+    return compile_model(model, packet_budget=packet_budget, target=target).diagnostics
 
 
 def add_source_lines(fragments: list[Fragment], index: LineIndex) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from rdcd_core.compiler import lowering
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.fold import fold, type_of
 from rdcd_core.compiler.ir import Item, Label
@@ -26,6 +27,11 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
         left, right, op = _move_constant(left, right, op, constant.value, ctx)
         constant = fold(right, ctx)
     span = expr.span
+    direction = lowering.connected_direction(left, ctx)
+    if (constant is not None and direction is not None
+            and ctx.target.quirks.connected_dir_sizeof_popcount_of_count):
+        lowering.dir_count_jump(direction, op, constant.value, target, when, ctx, out, span)
+        return
     if op in ("==", "!=") and type_of(left, ctx) is Type.BOOL:
         _bool_equality(left, right, target, when == (op == "=="), ctx, out)
         return
@@ -36,15 +42,18 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
             g.jump_on(when == (op == "=="), target, out, span)
             return
         nonneg = is_nonnegative(left, ctx)
-        if (op == "!=" and k == 0) or (nonneg and (op, k) in ((">", 0), (">=", 1))):
+        readable = _readable(left, ctx)  # else only the fused comparisons below read it
+        if not readable:
+            pass
+        elif (op == "!=" and k == 0) or (nonneg and (op, k) in ((">", 0), (">=", 1))):
             g.truth(left, ctx, out)
             g.jump_on(when, target, out, span)
             return
-        if (op == "==" and k == 0) or (nonneg and (op, k) in (("<=", 0), ("<", 1))):
+        if readable and ((op == "==" and k == 0) or (nonneg and (op, k) in (("<=", 0), ("<", 1)))):
             g.truth(left, ctx, out)
             g.jump_on(not when, target, out, span)
             return
-        if op in ("==", "!=") and 1 <= k <= 4:
+        if readable and op in ("==", "!=") and 1 <= k <= 4 and ctx.has(f"EQUALS_{k}"):
             g.value(left, ctx, out)
             g.emit(out, f"EQUALS_{k}", span=span)
             g.jump_on(when == (op == "=="), target, out, span)
@@ -65,12 +74,25 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
         g.jump_on(when, target, out, span)
 
 
+def _readable(expr: ast.Node, ctx: Context) -> bool:
+    """Whether the target can push the value of ``expr`` when it is a coordinate query (the
+    original firmware only compares x and y with a value)."""
+    from rdcd_core.compiler import exprgen as g
+
+    inner = ast.unparen(expr)
+    name = g.query_name(inner)
+    return not (isinstance(inner, ast.SelfCall) and name in g.COORDS) or ctx.has(f"COORD_{g.COORDS[name]}")
+
+
 def _move_constant(left: ast.Node, right: ast.Node, op: str, k: int, ctx: Context) -> tuple:
     """(a + c) op k  ->  a op (k - c), and the like, so that no ADD/SUB extension is needed.
     (Differs from 8-bit wrapping arithmetic only where a + c overflows.)"""
     from rdcd_core.compiler import exprgen as g
 
     inner = ast.unparen(left)
+    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE") and -k <= 127:
+        # -a op k  <=>  a mirror(op) -k, where the target cannot negate
+        return _move_constant(inner.operand, _literal(-k, right), g.MIRROR[op], -k, ctx)
     if not isinstance(inner, ast.Binary) or inner.op not in "+-":
         return left, right, op
     a, c = fold(inner.left, ctx), fold(inner.right, ctx)

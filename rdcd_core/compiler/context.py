@@ -10,6 +10,7 @@ from rdcd_core.compiler.roletable import RoleTable, application_name
 from rdcd_core.semantics.model import MethodSymbol, Model, Value
 from rdcd_core.source import Span
 from rdcd_core.types import PREDEFINED_VALUES, Type
+from vm.isa.targets import DEFAULT, Target
 
 
 @dataclass(slots=True)
@@ -17,19 +18,36 @@ class Context:
     model: Model
     table: RoleTable
     role: str  # the concrete role the code is specialised for
-    strict: bool = False
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     mixins: list[str] = field(default_factory=list)  # active assumeRole mixins, innermost last
     inlining: list[str] = field(default_factory=list)
     inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
     cache: dict[tuple, object] = field(default_factory=dict)  # per-compilation memo
-    reported: set[tuple[str, Span]] = field(default_factory=set)  # (code, span) of ``diagnostics``
+    reported: set[tuple[str, Span]] = field(default_factory=set)  # (code, span) of ``reported_of``
+    reported_of: list | None = None
+    reported_count: int = 0
+    target: Target = DEFAULT  # what the code must run on (vm.isa.targets)
+    # Local states (bits over geometry.LOCAL_STATES) in which the code being generated may run:
+    # a discovery test knows the states its earlier tests let through, a role's code the axes its
+    # invariants allow. None: any state.
+    states: int | None = None
 
     def report(self, code: str, span: Span, message: str) -> None:
-        if (code, span) not in self.reported:  # a set: thousands of reports stay linear
-            self.reported.add((code, span))
+        """Adds a diagnostic unless ``diagnostics`` already has one with this code and span."""
+        keys = self._reported()
+        if (code, span) not in keys:
+            keys.add((code, span))
             self.diagnostics.append(diag.make(code, span, message))
+        self.reported_count = len(self.diagnostics)
+
+    def _reported(self) -> set[tuple[str, Span]]:
+        """The (code, span) keys of ``diagnostics``, kept in a set so that thousands of reports stay
+        linear; made again when code swapped the list or changed it directly."""
+        if self.reported_of is not self.diagnostics or self.reported_count != len(self.diagnostics):
+            self.reported = {(d.code, d.span) for d in self.diagnostics}
+            self.reported_of = self.diagnostics
+        return self.reported
 
     def scopes(self) -> list[str]:
         return [*reversed(self.mixins), self.role]
@@ -58,7 +76,20 @@ class Context:
         name = application_name(self.mixins[-1], self.role) if self.mixins else self.role
         return self.table.id_of(name) or 0
 
+    def has(self, op: str) -> bool:
+        """Whether the target runs instruction ``op``."""
+        return self.target.implements_name(op)
+
     def ext(self, op: str, span: Span) -> None:
-        if self.strict:
-            self.report(codes.EXT_REFUSED, span,
-                        f"this needs the extension instruction {op}; --strict-isa refuses it")
+        self.need(op, span, "this needs the extension instruction")
+
+    def need(self, op: str, span: Span, what: str) -> bool:
+        """True if the target runs ``op``; otherwise reports that ``what`` cannot be compiled."""
+        if self.has(op):
+            return True
+        self.cannot(span, f"{what} {op}, which the {self.target.name} target does not run")
+        return False
+
+    def cannot(self, span: Span, why: str) -> None:
+        """Reports code that the target cannot express (E605), naming the role and why."""
+        self.report(codes.EXT_REFUSED, span, f"in role {self.role}: {why}")

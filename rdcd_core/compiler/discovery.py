@@ -53,27 +53,50 @@ def candidates(expr: ast.Node, ctx: Context) -> list[ast.Node]:
 
 
 def emit_test(expr: ast.Node, ctx: Context, fail: Label, paths: int, out: list[Item]) -> int:
-    """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass."""
+    """Code that jumps to ``fail`` unless ``expr`` holds; returns the states that pass. A
+    conjunction is tested part by part, each part in the states the parts before let through."""
+    inner = ast.unparen(expr)
+    if isinstance(inner, ast.Binary) and inner.op == "&&":
+        paths = emit_test(inner.left, ctx, fail, paths, out)
+        return emit_test(inner.right, ctx, fail, paths, out)
     mask = state_mask(expr, ctx)
-    if mask is None:
-        cjump(expr, fail, False, ctx, out)
-        return paths
-    if paths & ~mask == 0:
-        return paths
-    if paths & mask == 0:
-        emit(out, "GOTO", fail, span=expr.span)
-        return 0
+    saved, ctx.states = ctx.states, paths  # the tests run in the states the earlier ones let through
+    try:
+        if mask is None:
+            cjump(expr, fail, False, ctx, out)
+            return paths
+        if paths & ~mask == 0:
+            return paths
+        if paths & mask == 0:
+            emit(out, "GOTO", fail, span=expr.span)
+            return 0
+        out.extend(_cheapest_test(expr, mask, ctx, fail, paths))
+        return paths & mask
+    finally:
+        ctx.states = saved
+
+
+def _cheapest_test(expr: ast.Node, mask: int, ctx: Context, fail: Label, paths: int) -> list[Item]:
+    """The smallest code among the tests that agree with ``expr`` on ``paths`` and that the target
+    can run; if none can, ``expr``'s own code with the diagnostics that say why."""
     best: list[Item] | None = None
+    refused: list | None = None
     for candidate in candidates(expr, ctx):
         other = state_mask(candidate, ctx)
         if other is None or (other ^ mask) & paths:
             continue
         code: list[Item] = []
+        kept, ctx.diagnostics = ctx.diagnostics, []
         cjump(candidate, fail, False, ctx, code)
+        problems, ctx.diagnostics = ctx.diagnostics, kept
+        if problems:  # the target cannot run this form
+            refused = refused if refused is not None else problems
+            continue
         if best is None or code_size(code) < code_size(best):
             best = code
-    out.extend(best or [])
-    return paths & mask
+    if best is None and refused:
+        ctx.diagnostics.extend(refused)
+    return best or []
 
 
 def invariants(ctx: Context) -> list[ast.Node]:
@@ -82,28 +105,44 @@ def invariants(ctx: Context) -> list[ast.Node]:
 
 def signature(expr: ast.Node, ctx: Context) -> tuple:
     code: list[Item] = []
+    kept, ctx.diagnostics = ctx.diagnostics, []  # only compares code: emit_test reports
     cjump(expr, Label(), False, ctx, code)
+    problems, ctx.diagnostics = ctx.diagnostics, kept
+    if problems:  # code the target cannot run is no code to share
+        return (("unexpressed", ctx.role, id(expr)),)
     return tuple((i.op, tuple("L" if isinstance(a, Label) else a for a in i.args))
                  for i in code if isinstance(i, Ins))
 
 
 def common_prefix(ctxs: list[Context]) -> int:
     lists = [invariants(ctx) for ctx in ctxs]
+    paths = [ALL_STATES] * len(ctxs)  # each test's code is made for the states that reach it
     count = 0
     for index in range(min(len(items) for items in lists)):
         decls = {id(ctx.model.roles[ctx.role].invariants[index].decl) for ctx in ctxs}
-        sigs = {signature(items[index], ctx) for items, ctx in zip(lists, ctxs, strict=True)}
+        sigs = set()
+        for position, (items, ctx) in enumerate(zip(lists, ctxs, strict=True)):
+            saved, ctx.states = ctx.states, paths[position]
+            sigs.add(signature(items[index], ctx))
+            ctx.states = saved
+            mask = state_mask(items[index], ctx)
+            if mask is not None:
+                paths[position] &= mask
         if len(decls) != 1 or len(sigs) != 1:
             break
         count += 1
     return count
 
 
-def role_mask(exprs: list[ast.Node], ctx: Context) -> int | None:
+def role_mask(exprs: list[ast.Node], ctx: Context, *, local_only: bool = False) -> int | None:
+    """The states where every expression holds; None if one is not local (``local_only``: the
+    states where every local one holds, non-local ones ignored)."""
     mask = ALL_STATES
     for expr in exprs:
         part = state_mask(expr, ctx)
         if part is None:
+            if local_only:
+                continue
             return None
         mask &= part
     return mask

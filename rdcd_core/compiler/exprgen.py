@@ -8,7 +8,7 @@ from rdcd_core.compiler import codes
 from rdcd_core.compiler.compare import cjump_compare
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.fold import fold, type_of
-from rdcd_core.compiler.geometry import ROLE_DIRECTION_OPS
+from rdcd_core.compiler.geometry import DIRECTION_NAMES, ROLE_DIRECTION_OPS
 from rdcd_core.compiler.ir import Ins, Item, Label
 from rdcd_core.syntax import ast
 from rdcd_core.types import PREDEFINED_VALUES, Type
@@ -49,6 +49,7 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         _function(expr, ctx, out)
     elif isinstance(expr, ast.Unary) and expr.op == "-":
         value(expr.operand, ctx, out)
+        ctx.need("NEGATE", expr.span, "the value of a negated expression needs")
         emit(out, "NEGATE", span=expr.span)
     elif isinstance(expr, ast.Binary) and expr.op in "+-":
         value(expr.left, ctx, out)
@@ -88,11 +89,21 @@ def materialize(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
 def _query(expr: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
     name = expr.name.text
     if name in COORDS:
-        emit(out, f"COORD_{COORDS[name]}", span=expr.span)
+        op = f"COORD_{COORDS[name]}"
+        if not ctx.has(op):  # the original firmware only compares x and y with a value
+            ctx.cannot(expr.span, f"the value of self.{name}() needs {op}, which the {ctx.target.name} "
+                                  "target does not run; compare it with a value instead"
+                                  + (" (x and y only)" if name == "z" else ""))
+        emit(out, op, span=expr.span)
     elif name == "total_connected":
+        if ctx.target.quirks.connected_physical_bits:
+            ctx.cannot(expr.span, f"the connector set self.total_connected() is read wrongly by the "
+                                  f"{ctx.target.name} target's CONNECTED (physical connectors, connector 7 "
+                                  "lost); use sizeof(self.total_connected()) or compare it with 0")
         emit(out, "CONNECTED", span=expr.span)
     elif name == "connected" and expr.args:
         direction = const_arg(expr.args[0], ctx, "the direction")
+        ctx.need("CONNECTED_DIR", expr.span, "the connector set self.connected(d) needs")
         emit(out, "CONNECTED_DIR", direction or 0, span=expr.span)
     elif name == "center_position":
         materialize(expr, ctx, out)
@@ -109,6 +120,7 @@ def _function(expr: ast.FunctionCall, ctx: Context, out: list[Item]) -> None:
             emit(out, "CONNECTED_SIZEOF", span=expr.span)
         elif isinstance(inner, ast.SelfCall) and name == "connected" and inner.args:
             direction = const_arg(inner.args[0], ctx, "the direction")
+            _dir_count_value(direction or 0, ctx, expr.span)
             emit(out, "CONNECTED_DIR_SIZEOF", direction or 0, span=expr.span)
         else:
             value(inner, ctx, out)
@@ -116,6 +128,7 @@ def _function(expr: ast.FunctionCall, ctx: Context, out: list[Item]) -> None:
     elif expr.name.text == "connected_role" and len(expr.args) == 2:
         direction = const_arg(expr.args[0], ctx, "the direction")
         role = const_arg(expr.args[1], ctx, "the role")
+        ctx.need("CONNECTED_ROLE", expr.span, "the connector set connected_role(d, R) needs")
         emit(out, "CONNECTED_ROLE", direction or 0, role or 0, span=expr.span)
     else:
         ctx.report(codes.UNSUPPORTED, expr.span, f"'{expr.name.text}' cannot be compiled")
@@ -128,14 +141,35 @@ def compare(left: ast.Node, right: ast.Node, op: str, ctx: Context, out: list[It
     suffix = {">": "GREATER", "<": "LESSER"}
     if lname in COORDS and isinstance(ast.unparen(left), ast.SelfCall):
         value(right, ctx, out)
-        emit(out, f"COORD_{COORDS[lname]}_{suffix[op]}", span=span)
+        _coord_compare(f"COORD_{COORDS[lname]}_{suffix[op]}", lname, ctx, out, span)
     elif rname in COORDS and isinstance(ast.unparen(right), ast.SelfCall):
         value(left, ctx, out)
-        emit(out, f"COORD_{COORDS[rname]}_{suffix[MIRROR[op]]}", span=span)
+        _coord_compare(f"COORD_{COORDS[rname]}_{suffix[MIRROR[op]]}", rname, ctx, out, span)
+    elif op == "<" and not ctx.has("LESSER"):  # a < b as b > a: every operand is pure
+        value(right, ctx, out)
+        value(left, ctx, out)
+        emit(out, "GREATER", span=span)
     else:
         value(left, ctx, out)
         value(right, ctx, out)
         emit(out, suffix[op], span=span)
+
+
+def _coord_compare(op: str, name: str, ctx: Context, out: list[Item], span: object) -> None:
+    if not ctx.has(op):
+        ctx.cannot(span, f"comparing self.{name}() needs {op}, which the {ctx.target.name} target does "  # type: ignore[arg-type]
+                         "not run; it has no instruction that reads the z coordinate")
+    emit(out, op, span=span)
+
+
+def _dir_count_value(direction: int, ctx: Context, span: object) -> None:
+    """sizeof(self.connected(d)) as a number: exact only where the target counts right."""
+    from rdcd_core.compiler import lowering
+
+    if lowering.dir_sizeof_runs(ctx, direction, span) and not lowering.dir_count_is_exact(ctx, direction):  # type: ignore[arg-type]
+        ctx.cannot(span, f"the number sizeof(self.connected({DIRECTION_NAMES.get(direction, direction)})) "  # type: ignore[arg-type]
+                         f"is read wrongly by the {ctx.target.name} target (2 and 4 connections count as 1); "
+                         "compare it with a constant instead")
 
 
 def jump_on(when: bool, target: Label, out: list[Item], span: object) -> None:
@@ -146,16 +180,29 @@ def truth(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
     """Push a value that is non-zero exactly when ``expr != 0``."""
     expr = ast.unparen(expr)
     if isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and expr.args:
-        inner = ast.unparen(expr.args[0])
-        if not (isinstance(inner, ast.SelfCall) and inner.name.text in ("total_connected", "connected")):
-            truth(inner, ctx, out)
-            return
+        truth(expr.args[0], ctx, out)  # a set's size is non-zero exactly when the set is not empty
+        return
     if isinstance(expr, ast.FunctionCall) and expr.name.text == "connected_role" and len(expr.args) == 2:
         direction = fold(expr.args[0], ctx)
         role = fold(expr.args[1], ctx)
         if direction is not None and role is not None and direction.value in ROLE_DIRECTION_OPS:
-            emit(out, ROLE_DIRECTION_OPS[direction.value], role.value, span=expr.span)
+            op = ROLE_DIRECTION_OPS[direction.value]
+            if not ctx.has(op):
+                ctx.cannot(expr.span, f"connected_role({DIRECTION_NAMES[direction.value]}, ...) needs {op}, "
+                                      f"which the {ctx.target.name} target does not run; it tests neighbour "
+                                      "roles only below (connected_role(DOWN, ...))")
+            emit(out, op, role.value, span=expr.span)
             return
+    if isinstance(expr, ast.SelfCall) and expr.name.text == "total_connected":
+        emit(out, "CONNECTED_SIZEOF", span=expr.span)  # non-zero exactly when the set is not empty
+        return
+    if isinstance(expr, ast.SelfCall) and expr.name.text == "connected" and expr.args:
+        from rdcd_core.compiler import lowering
+
+        direction = const_arg(expr.args[0], ctx, "the direction")
+        lowering.dir_sizeof_runs(ctx, direction or 0, expr.span)
+        emit(out, "CONNECTED_DIR_SIZEOF", direction or 0, span=expr.span)  # its reading is 0 only for 0
+        return
     value(expr, ctx, out)
 
 

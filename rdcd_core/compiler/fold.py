@@ -10,15 +10,11 @@ from __future__ import annotations
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.geometry import facing
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES
+from rdcd_core.operators import BINARY, UNARY
 from rdcd_core.semantics.model import Value
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
-from vm.isa.opcodes import signed_byte
 
-COMPARE = {
-    "==": lambda a, b: a == b, "!=": lambda a, b: a != b, "<": lambda a, b: a < b,
-    ">": lambda a, b: a > b, "<=": lambda a, b: a <= b, ">=": lambda a, b: a >= b,
-}
 LOCAL_QUERIES = ("center_position", "total_connected", "connected")
 
 
@@ -37,7 +33,7 @@ def type_of(expr: ast.Node, ctx: Context) -> Type:
     if isinstance(expr, ast.Unary):
         return Type.BOOL if expr.op == "!" else Type.INT
     if isinstance(expr, ast.Binary):
-        return Type.INT if expr.op in "+-" else Type.BOOL
+        return BINARY[expr.op].result
     if isinstance(expr, (ast.SelfCall, ast.FunctionCall)):  # a plain method gives nothing to fold
         table = SELF_PRIMITIVES if isinstance(expr, ast.SelfCall) else FUNCTIONS
         primitive = table.get(expr.name.text)
@@ -55,9 +51,8 @@ def _eval(expr: ast.Node, ctx: Context, state: tuple[int, int] | None) -> Value 
         inner = _eval(expr.operand, ctx, state)
         if inner is None:
             return None
-        if expr.op == "-":
-            return Value(Type.INT, signed_byte(-inner.value))
-        return Value(Type.BOOL, int(not inner.value))
+        operator = UNARY[expr.op]
+        return Value(operator.operand, operator.apply(inner.value))
     if isinstance(expr, ast.Binary):
         return _eval_binary(expr, ctx, state)
     if state is not None and isinstance(expr, (ast.SelfCall, ast.FunctionCall)):
@@ -67,19 +62,16 @@ def _eval(expr: ast.Node, ctx: Context, state: tuple[int, int] | None) -> Value 
 
 def _eval_binary(expr: ast.Binary, ctx: Context, state: tuple[int, int] | None) -> Value | None:
     left = _eval(expr.left, ctx, state)
-    if expr.op in ("&&", "||") and left is not None:
-        if bool(left.value) == (expr.op == "||"):
-            return Value(Type.BOOL, int(bool(left.value)))
+    operator = BINARY[expr.op]
+    if operator.decides is not None and left is not None:
+        if bool(left.value) == operator.decides:
+            return Value(Type.BOOL, int(operator.decides))
         right = _eval(expr.right, ctx, state)
         return None if right is None else Value(Type.BOOL, int(bool(right.value)))
     right = _eval(expr.right, ctx, state)
     if left is None or right is None:
         return None
-    if expr.op == "+":
-        return Value(Type.INT, signed_byte(left.value + right.value))
-    if expr.op == "-":
-        return Value(Type.INT, signed_byte(left.value - right.value))
-    return Value(Type.BOOL, int(COMPARE[expr.op](left.value, right.value)))
+    return Value(operator.result, operator.apply(left.value, right.value))
 
 
 def _eval_query(expr: ast.Node, ctx: Context, state: tuple[int, int]) -> Value | None:
@@ -163,14 +155,6 @@ def _vector(shape: tuple, ctx: Context, states: tuple[tuple[int, int], ...]) -> 
     if kind == "sizeof":
         return [bin(v & 0xFF).count("1") for v in vector_of(shape[1], ctx, states)]
     if kind == "unary":
-        inner = vector_of(shape[2], ctx, states)
-        return [signed_byte(-v) for v in inner] if shape[1] == "-" else [int(not v) for v in inner]
-    op, left, right = shape[1], vector_of(shape[2], ctx, states), vector_of(shape[3], ctx, states)
-    if op in ("&&", "||"):
-        both = all if op == "&&" else any
-        return [int(both((a, b))) for a, b in zip(left, right, strict=True)]
-    if op in "+-":
-        sign = 1 if op == "+" else -1
-        return [signed_byte(a + sign * b) for a, b in zip(left, right, strict=True)]
-    compare = COMPARE[op]
-    return [int(compare(a, b)) for a, b in zip(left, right, strict=True)]
+        return list(map(UNARY[shape[1]].apply, vector_of(shape[2], ctx, states)))
+    left, right = vector_of(shape[2], ctx, states), vector_of(shape[3], ctx, states)
+    return list(map(BINARY[shape[1]].apply, left, right))

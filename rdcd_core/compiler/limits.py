@@ -1,25 +1,16 @@
-"""Limits of language.md §6 that need the compiler's view: role ids, command tables, slots."""
+"""Limits of language.md §6 that need the compiler's view: command numbers, program slots.
+
+The number of role ids and of command-table entries is the checker's (E120, E121): the role table
+has exactly the ids it counts, so the compiler does not count them again."""
 
 from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.entry import behaviour_numbers, methods_of
-from rdcd_core.compiler.roletable import RoleTable
 from rdcd_core.semantics.model import Model
 from rdcd_core.syntax import ast
-from vm.isa.opcodes import PROGRAM_SLOTS, ROLE_IDS, USER_COMMANDS
-
-
-def role_id_limit(model: Model, table: RoleTable) -> list[diag.Diagnostic]:
-    if len(table.entries) <= ROLE_IDS:
-        return []
-    entry = table.entries[ROLE_IDS]
-    decl = model.roles[entry.name.split("@")[0]].decl
-    span = decl.name.span if decl else model.program.span
-    return [diag.make(codes.TOO_MANY_ROLE_IDS, span,
-                      f"the program needs {len(table.entries)} role ids after mixin expansion, "
-                      f"the DCD-VM has {ROLE_IDS}; '{entry.name}' is number {entry.id}")]
+from vm.isa.opcodes import PROGRAM_SLOTS, USER_COMMANDS
 
 
 def command_limit(model: Model, commands: dict[str, int]) -> list[diag.Diagnostic]:
@@ -30,15 +21,17 @@ def command_limit(model: Model, commands: dict[str, int]) -> list[diag.Diagnosti
         numbers.update(behaviour_numbers(model, role, commands))
         everything = methods + methods_of(model, role, ast.MethodKind.BEHAVIOR)
         for method in everything:
-            if numbers[method.name] >= USER_COMMANDS:
+            if numbers[method.name] >= USER_COMMANDS:  # more entries than that are the checker's E121
                 found.append(diag.make(
                     codes.TOO_MANY_COMMANDS, method.decl.name.span,
-                    f"role {role} needs more than {USER_COMMANDS} command-table entries "
-                    f"(commands and behaviours); '{method.name}' does not fit"))
+                    f"{method.kind.value} '{method.name}' of role {role} gets no number in its "
+                    f"command table of {USER_COMMANDS}: a command keeps one number in every role that "
+                    "has it, and the commands it shares with other roles take the others; give the "
+                    "roles fewer commands in common"))
     return _unique(found)
 
 
-def program_limit(model: Model) -> list[diag.Diagnostic]:
+def program_limit(model: Model, slots: int = PROGRAM_SLOTS) -> list[diag.Diagnostic]:
     """Stored programs on a module of each role: commands, behaviours, handlers."""
     found: list[diag.Diagnostic] = []
     for role in model.deployment:
@@ -54,11 +47,11 @@ def program_limit(model: Model) -> list[diag.Diagnostic]:
                     # one slot per event (a new handler replaces the old): compare without spans
                     events.add(ast.strip_spans(node.args[0]))
         count += len(events)
-        if count > PROGRAM_SLOTS and symbol.decl is not None:
+        if count > slots and symbol.decl is not None:
             found.append(diag.make(
                 codes.TOO_MANY_PROGRAMS, symbol.decl.name.span,
                 f"a module playing {role} stores {count} programs (commands, behaviours, "
-                f"handlers); the DCD-VM has {PROGRAM_SLOTS} slots"))
+                f"handlers); the DCD-VM has {slots} slots"))
     return found
 
 

@@ -62,6 +62,7 @@ class CompiledProgram:
     injection: list[str]
     packet_budget: int
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    target: str = "default"  # the vm.isa.targets description it was compiled for
 
     @property
     def total_bytes(self) -> int:

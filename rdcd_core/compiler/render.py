@@ -9,10 +9,12 @@ from rdcd_core.compiler.geometry import DIRECTION_NAMES
 from rdcd_core.compiler.program import HEADER_BYTES, CompiledProgram, Fragment
 from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble
 from vm.isa.opcodes import BUILTIN_COMMANDS, USER_COMMAND_BASE, Operand
+from vm.isa.targets import DEFAULT, TARGETS
 
 
 def to_json(program: CompiledProgram) -> dict[str, object]:
     return {
+        "target": program.target,
         "packet_budget": program.packet_budget,
         "total_bytes": program.total_bytes,
         "max_fragment_bytes": program.max_fragment_bytes,
@@ -128,8 +130,22 @@ def c_name(name: str) -> str:
     return "rdcd_" + re.sub(r"\W", "_", name)
 
 
+def c_comment_text(text: str) -> str:
+    """``text`` made safe inside a C block comment: no ``*/`` ends it early, no line breaks or
+    other control characters split it (a file name may hold any of these)."""
+    text = "".join(c if c.isprintable() else "?" for c in text)
+    return text.replace("*/", "*\\/").replace("/*", "/\\*")
+
+
 def render_c(program: CompiledProgram, source: str = "") -> str:
-    out = [f"/* DCD-VM fragments compiled by rdcd from {source or 'an RDCD program'}. */",
+    """The C form: for a target that builds the program into its firmware (``loads_c_file``), the
+    file the firmware includes (``render_firmware``); otherwise the fragments, the injection
+    sequence and the role table as plain C data."""
+    if TARGETS.get(program.target, DEFAULT).loads_c_file:
+        from rdcd_core.compiler.firmware_c import render_firmware
+
+        return render_firmware(program, source)
+    out = [f"/* DCD-VM fragments compiled by rdcd from {c_comment_text(source or 'an RDCD program')}. */",
            "#include <stdint.h>", ""]
     for f in program.fragments:
         data = ", ".join(str(b) for b in f.code)

@@ -4,19 +4,21 @@
 from __future__ import annotations
 
 from rdcd_core.compiler import codes
+from rdcd_core.compiler.compare import is_nonnegative
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
 from rdcd_core.compiler.fold import fold
-from rdcd_core.compiler.ir import Body, Item, Label
+from rdcd_core.compiler.ir import Body, Ins, Item, Label
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.syntax import ast
+from rdcd_core.syntax.builder import MAX_HEIGHT
 from vm.isa.opcodes import ROTATE_CCW, ROTATE_CW, ROTATE_DEGREES, ROTATE_TO, STOP, USER_COMMAND_BASE
 
 QUERIES = {"center_position", "total_connected", "connected", "x", "y", "z"}
 EVENT_OPS = {"disableEvent": "DISABLE_EVENT", "enableEvent": "ENABLE_EVENT", "clearEvent": "CLEAR_EVENT"}
 # Inlining nests a method's body inside its caller's; code generation recurses over the nesting,
 # so the bodies inlined into one another may add at most as many levels as one parsed tree has.
-MAX_INLINED_NESTING = 100
+MAX_INLINED_NESTING = MAX_HEIGHT
 
 
 def statements(stmts: tuple[ast.Stmt, ...] | list[ast.Stmt], ctx: Context, out: list[Item]) -> None:
@@ -78,7 +80,9 @@ def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
     elif ctx.inlined_nesting + nesting(method.decl.body, ctx) > MAX_INLINED_NESTING:
         ctx.report(codes.UNSUPPORTED, span,
                    f"plain method calls nest too deeply to inline ({len(ctx.inlining) + 1} calls "
-                   f"deep: {_chain([*ctx.inlining, name])}); call fewer methods inside one another")
+                   f"deep: {_chain([*ctx.inlining, name])}: more than {MAX_INLINED_NESTING} levels, "
+                   "each operator of 'a + b + c' and 'else if' counting); call fewer methods inside "
+                   "one another")
     else:
         saved = ctx.inlined_nesting
         ctx.inlined_nesting += nesting(method.decl.body, ctx)
@@ -127,18 +131,27 @@ def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object)
 
 def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object) -> None:
     """A speed known only at run time: APPLY the direction's command to |speed| (0 stops)."""
+    forward, backward = ROTATE_CW, ROTATE_CCW
+    inner = ast.unparen(speed)
+    if isinstance(inner, ast.Unary) and inner.op == "-" and not ctx.has("NEGATE"):
+        speed, forward, backward = inner.operand, ROTATE_CCW, ROTATE_CW  # -e: e, the other way round
     zero = ast.IntLit(0, speed.span)
     backwards, stop, end = Label("ccw"), Label("stop"), Label("end")
     cjump(ast.Binary(">", speed, zero, speed.span, speed.span), backwards, False, ctx, out)
     value(speed, ctx, out)
-    emit(out, "PUSH", ROTATE_CW, span=span)
+    emit(out, "PUSH", forward, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(backwards)
+    if is_nonnegative(speed, ctx):  # never below 0: not positive means stop
+        emit(out, "EVAL_COMMAND", STOP, 0, span=span)
+        out.append(end)
+        return
     cjump(ast.Binary("<", speed, zero, speed.span, speed.span), stop, False, ctx, out)
     value(speed, ctx, out)
+    ctx.need("NEGATE", speed.span, "a turning speed below 0 known only at run time needs")
     emit(out, "NEGATE", span=span)
-    emit(out, "PUSH", ROTATE_CCW, span=span)
+    emit(out, "PUSH", backward, span=span)
     emit(out, "APPLY", span=span)
     emit(out, "GOTO", end, span=span)
     out.append(stop)
@@ -176,7 +189,31 @@ def _handle_event(args: tuple, ctx: Context, out: list[Item], span: object) -> N
     saved, ctx.mixins = ctx.mixins, list(ctx.mixins)
     body = body_of(args[1], ctx, "END_TERMINATE")
     ctx.mixins = saved
+    _warn_refiring(body, event, ctx, span)
     emit(out, "HANDLE_EVENT", event, body, span=span)
+
+
+def _warn_refiring(body: Body, event: int, ctx: Context, span: object) -> None:
+    """On a target that runs a handler again on every step while its sensor sees an object, a
+    handler should first disable (or clear) its own event."""
+    if not ctx.target.quirks.handler_refires_with_zero:
+        return
+    first = next((item for item in body.code if isinstance(item, Ins)), None)
+    if first is not None and first.op in ("DISABLE_EVENT", "CLEAR_EVENT") and first.args == (event,):
+        return
+    ctx.report(codes.HANDLER_REFIRES, span,  # type: ignore[arg-type]
+               f"in role {ctx.role}: this handler does not first disable EVENT_PROXIMITY_{event}; on the "
+               f"{ctx.target.name} target it runs again on every step while the sensor sees an object; "
+               f"begin it with self.disableEvent(EVENT_PROXIMITY_{event}) and enable the event again later")
+
+
+def _enable_event(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    event = const_arg(args[0], ctx, "the event") if args else None
+    if event is None:
+        return
+    if ctx.target.quirks.enable_event_toggles:  # ENABLE_EVENT flips the flag: disable it first
+        emit(out, "DISABLE_EVENT", event, span=span)
+    emit(out, "ENABLE_EVENT", event, span=span)
 
 
 def _assume_role(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
@@ -209,4 +246,5 @@ PRIMITIVE_CODE = {
     "handleEvent": _handle_event,
     "assumeRole": _assume_role,
     **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},
+    "enableEvent": _enable_event,
 }

@@ -1,5 +1,5 @@
-"""Checks every fragment with the VM's verifier, which also refuses extension opcodes under
---strict-isa."""
+"""Checks every fragment with the VM's verifier: first its form (an error there is a compiler bug,
+E607), then the target's description (opcodes it runs, operand stack, instructions per run; E608)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,20 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.program import Fragment
 from rdcd_core.source import Span
+from vm.isa.targets import Target
 from vm.isa.verifier import verify
 
 
-def verify_fragments(fragments: list[Fragment], strict: bool) -> list[diag.Diagnostic]:
-    return [diag.make(codes.VERIFIER_REJECTED, fragment.span or Span(0, 0),
-                      f"fragment {fragment.name} rejected by the verifier: {error}")
-            for fragment in fragments for error in verify(fragment.code, strict=strict)]
+def verify_fragments(fragments: list[Fragment], target: Target) -> list[diag.Diagnostic]:
+    found: list[diag.Diagnostic] = []
+    for fragment in fragments:
+        span = fragment.span or Span(0, 0)
+        errors = verify(fragment.code, max_stack=255)  # its form; the stack depth is the target's
+        code = codes.VERIFIER_REJECTED
+        if not errors:
+            errors, code = verify(fragment.code, target=target), codes.TARGET_LIMIT
+        for error in errors:
+            what = "rejected by the verifier" if code == codes.VERIFIER_REJECTED else \
+                f"does not run on the {target.name} target"
+            found.append(diag.make(code, span, f"fragment {fragment.name} {what}: {error}"))
+    return found

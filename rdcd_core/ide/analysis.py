@@ -26,6 +26,7 @@ class Analysis:
     _compile_tried: bool = False
     cache: dict[str, Any] = field(default_factory=dict)  # derived data of this text, per feature
     parsed: ParseResult | None = None  # for reuse by the analysis of the next edit
+    target: str = "default"  # the vm.isa.targets name the program is checked and compiled for
 
     @property
     def line_index(self) -> LineIndex:
@@ -65,22 +66,23 @@ class Analysis:
                 try:
                     from rdcd_core.compiler import compile_model
 
-                    self._compiled = compile_model(self.model)
+                    self._compiled = compile_model(self.model, target=self.target)
                 except Exception:  # the editor keeps working without sizes
                     self._compiled = None
         return self._compiled
 
 
-def analyze(text: str, previous: Analysis | None = None) -> Analysis:
-    """Checks ``text``; never raises (a front-end crash becomes one diagnostic). ``previous``, the
-    analysis of an earlier version of the text, only makes it faster."""
+def analyze(text: str, previous: Analysis | None = None, target: str = "default") -> Analysis:
+    """Checks ``text`` for ``target``; never raises (a front-end crash becomes one diagnostic).
+    ``previous``, the analysis of an earlier version of the text, only makes it faster."""
     try:
         from rdcd_core.frontend import check_text
 
-        result = check_text(text, previous=previous.parsed if previous is not None else None)
+        result = check_text(text, previous=previous.parsed if previous is not None else None,
+                            target=target)
         return Analysis(text, result.program, result.model, list(result.diagnostics),
                         _compiled=result.compiled, _compile_tried=result.compiled is not None,
-                        parsed=result.parsed)
+                        parsed=result.parsed, target=target)
     except Exception as error:  # DESIGN rule 2 says this cannot happen; the editor must survive it
         from rdcd_core.semantics.codes import INTERNAL_ERROR
         from rdcd_core.source import Span

@@ -6,14 +6,14 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-COMMENT = re.compile(r"//[^\n]*|/\*.*?(\*/|\Z)", re.DOTALL)
+COMMENT = re.compile(r"//[^\r\n]*|/\*.*?(\*/|\Z)", re.DOTALL)  # a line comment ends at \r too
 ROLE_HEADER = re.compile(r"\brole\s+([A-Za-z_][A-Za-z0-9_]*)(\s+(extends|modifies)\s+([A-Za-z_]\w*))?")
 WORD_BEFORE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
 def blank_comments(text: str) -> str:
     """The text with every comment replaced by spaces (offsets unchanged)."""
-    return COMMENT.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+    return COMMENT.sub(lambda m: re.sub(r"[^\r\n]", " ", m.group(0)), text)
 
 
 @dataclass(frozen=True)

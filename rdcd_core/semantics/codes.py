@@ -63,9 +63,9 @@ TOO_MANY_ROLE_IDS = define_code(
     "".join(f"role R{k} {{ self.x() == {k}; }}\n" for k in range(1, 16))
     + "deployment { " + ", ".join(f"R{k}" for k in range(1, 16)) + " }")
 TOO_MANY_COMMANDS = define_code(
-    "E121", _E, "more than 5 commands in one role's command table",
+    "E121", _E, "more than 5 entries in one role's command table (commands and behaviours)",
     "role A { command a() { } command b() { } command c() { } command d() { }\n"
-    "  command e() { } command f() { } }\ndeployment { A }")
+    "  behavior e() { } behavior f() { } }\ndeployment { A }")
 
 # ----------------------------------------------------------------------------- E2xx names, types
 UNKNOWN_NAME = define_code(

@@ -11,13 +11,14 @@ from dataclasses import dataclass
 from itertools import product
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.operators import BINARY, UNARY
 from rdcd_core.semantics import codes
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.model import RoleSymbol
 from rdcd_core.semantics.statespace import StateSpace, Values
 from rdcd_core.semantics.walk import expr_nodes
 from rdcd_core.syntax import ast
-from rdcd_core.types import PREDEFINED_VALUES, Type
+from rdcd_core.types import INT8_MAX, INT8_MIN, PREDEFINED_VALUES, Type
 
 _MAX_PAIRS = 4096  # bound on the size of one binary operation's value table
 _MAX_REPS = 7
@@ -66,7 +67,10 @@ class _Evaluator:
             return {_constant(role, expr.name.text): full}
         if isinstance(expr, ast.Unary):
             inner = self._eval(role, expr.operand, matched)
-            return _map(inner, (lambda v: -v) if expr.op == "-" else (lambda v: 1 - v))
+            operator = UNARY.get(expr.op)
+            if operator is None:
+                raise _Undecidable
+            return _map(inner, operator.apply)
         if isinstance(expr, ast.Binary):
             left = self._eval(role, expr.left, matched)
             right = self._eval(role, expr.right, matched)
@@ -138,19 +142,12 @@ def _map(values: Values, function) -> Values:  # type: ignore[no-untyped-def]
     return out
 
 
-_OPS = {
-    "+": lambda a, b: a + b, "-": lambda a, b: a - b,
-    "&&": lambda a, b: int(bool(a and b)), "||": lambda a, b: int(bool(a or b)),
-    "==": lambda a, b: int(a == b), "!=": lambda a, b: int(a != b),
-    "<": lambda a, b: int(a < b), ">": lambda a, b: int(a > b),
-    "<=": lambda a, b: int(a <= b), ">=": lambda a, b: int(a >= b),
-}
-
-
 def _combine(op: str, left: Values, right: Values) -> Values:
-    function = _OPS.get(op)
-    if function is None or len(left) * len(right) > _MAX_PAIRS:
+    """``left op right`` as the VM computes it (8-bit wrapping arithmetic), state by state."""
+    operator = BINARY.get(op)
+    if operator is None or len(left) * len(right) > _MAX_PAIRS:
         raise _Undecidable
+    function = operator.apply
     out: Values = {}
     for a, states_a in left.items():
         for b, states_b in right.items():
@@ -348,4 +345,6 @@ def _coordinate_reps(roles: list[RoleSymbol], shapes: dict[int, _Shape]) -> dict
                 values = wanted.setdefault(name, {0})
                 for number in numbers:
                     values.update((number - 1, number, number + 1, -number - 1, -number, -number + 1))
-    return {name: sorted(values, key=abs)[:_MAX_REPS] for name, values in wanted.items()}
+    # a coordinate is a signed byte on the VM: 128 or -129 is no module's position
+    return {name: sorted((v for v in values if INT8_MIN <= v <= INT8_MAX), key=abs)[:_MAX_REPS]
+            for name, values in wanted.items()}

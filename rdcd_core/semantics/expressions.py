@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.operators import BINARY, UNARY
 from rdcd_core.semantics import calls, codes
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
@@ -118,7 +119,7 @@ def _unary(env: Env, expr: ast.Unary) -> Result:
     if expr.op == "-" and isinstance(operand, ast.IntLit) and expr.operand is operand:
         return _int_literal(env, operand, negated=True)
     type_, value = check_expr(env, expr.operand)
-    wanted = Type.INT if expr.op == "-" else Type.BOOL
+    wanted = UNARY[expr.op].operand
     if type_ is None:
         return wanted, None
     if type_ is not wanted:
@@ -127,9 +128,10 @@ def _unary(env: Env, expr: ast.Unary) -> Result:
         return wanted, None
     if value is None:
         return wanted, None
-    if expr.op == "!":
-        return Type.BOOL, Value(Type.BOOL, 1 - value.value)
-    return _ranged(env, expr, -value.value)
+    result = UNARY[expr.op].exact(value.value)
+    if wanted is Type.BOOL:
+        return Type.BOOL, Value(Type.BOOL, result)
+    return _ranged(env, expr, result)
 
 
 def _ranged(env: Env, expr: ast.Expr, value: int) -> Result:
@@ -161,51 +163,40 @@ def _binary(env: Env, expr: ast.Binary) -> Result:
     left_type, left = check_expr(env, expr.left)
     right_type, right = check_expr(env, expr.right)
     op = expr.op
-    result = Type.BOOL if op not in ("+", "-") else Type.INT
+    operator = BINARY[op]
+    result = operator.result
     if left_type is None or right_type is None:
         return result, None
-    if not _types_fit(op, left_type, right_type):
+    if not _types_fit(operator.operands, left_type, right_type):
         env.ctx.report(codes.TYPE_MISMATCH, expr.op_span,
-                       f"'{op}' cannot combine {a_type(left_type)} with {a_type(right_type)}; {_hint(op)}",
+                       f"'{op}' cannot combine {a_type(left_type)} with {a_type(right_type)}; "
+                       f"{_HINTS[operator.operands]}",
                        related=(diag.Related(expr.left.span, f"this is {a_type(left_type)}"),
                                 diag.Related(expr.right.span, f"this is {a_type(right_type)}")))
         return result, None
     if left is None or right is None:
         return result, None
-    return _fold(env, expr, left.value, right.value)
+    # exact, not wrapped: a constant outside -128..127 is an error (language.md §2), never a wrap
+    value = operator.exact(left.value, right.value)
+    if result is Type.INT:
+        return _ranged(env, expr, value)
+    return result, Value(result, value)
 
 
-def _types_fit(op: str, left: Type, right: Type) -> bool:
-    if op in ("+", "-"):
+def _types_fit(operands: str, left: Type, right: Type) -> bool:
+    if operands == "int":
         return left is Type.INT and right is Type.INT
-    if op in ("&&", "||"):
+    if operands == "bool":
         return left is Type.BOOL and right is Type.BOOL
-    if op in ("==", "!="):
+    if operands == "same":
         return left is right and left in _COMPARABLE
     pair = {left, right}
     return pair == {Type.INT} or pair == {Type.INT, Type.CONNSET}
 
 
-def _hint(op: str) -> str:
-    if op in ("+", "-"):
-        return "arithmetic needs two ints"
-    if op in ("&&", "||"):
-        return "logic needs two bools"
-    if op in ("==", "!="):
-        return "both sides must have the same type (use sizeof(s) to count a connset)"
-    return "compare ints, or a connset with an int"
-
-
-def _fold(env: Env, expr: ast.Binary, a: int, b: int) -> Result:
-    op = expr.op
-    if op == "+":
-        return _ranged(env, expr, a + b)
-    if op == "-":
-        return _ranged(env, expr, a - b)
-    table = {"&&": lambda: a and b, "||": lambda: a or b, "==": lambda: a == b,
-             "!=": lambda: a != b, "<": lambda: a < b, ">": lambda: a > b,
-             "<=": lambda: a <= b, ">=": lambda: a >= b}
-    compute = table.get(op)
-    if compute is None:
-        return None, None
-    return Type.BOOL, Value(Type.BOOL, 1 if compute() else 0)
+_HINTS = {  # by the operands of BINARY
+    "int": "arithmetic needs two ints",
+    "bool": "logic needs two bools",
+    "same": "both sides must have the same type (use sizeof(s) to count a connset)",
+    "ordered": "compare ints, or a connset with an int",
+}

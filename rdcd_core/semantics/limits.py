@@ -1,4 +1,6 @@
-"""Limits of the target (language.md §6) that the checker reports: role identifiers, command tables.
+"""Limits of the target (language.md §6) that the checker reports: role identifiers, command tables
+(commands and behaviours). The compiler reports nothing of these twice: its role table has exactly
+the identifiers counted here (tests/compiler/test_limits.py compares them).
 
 The role identifiers are counted as the compiler assigns them (dcd-vm.md §8): deployed roles;
 roles observed at run time (``connected_role`` and command targets); observed mixins; one per
@@ -39,18 +41,29 @@ def check_limits(ctx: Context, deployed: dict[str, ast.Name]) -> None:
         _check_table(ctx, role, list(roles[role].methods.values()))
     for mixin, role in applications:
         merged = dict(roles[role].methods)
-        merged.update(roles[mixin].methods)
+        merged.update((name, m) for name, m in roles[mixin].methods.items()
+                      if m.kind is ast.MethodKind.COMMAND)  # a mixin's behaviours are not compiled (W603)
         _check_table(ctx, mixin, list(merged.values()), applied_to=role)
 
 
+_TABLE = (ast.MethodKind.COMMAND, ast.MethodKind.BEHAVIOR)  # behaviours run as user commands too
+
+
 def _check_table(ctx: Context, role: str, methods: list[MethodSymbol], applied_to: str = "") -> None:
-    commands = [m for m in methods if m.kind is ast.MethodKind.COMMAND]
+    """The role's command table holds its commands and its behaviours (inherited ones included).
+
+    This counts them; the compiler (E603) reports what only the numbering shows: a command keeps
+    one number in every role that has it, which can leave no free number within a table.
+    """
+    entries = [m for m in methods if m.kind in _TABLE and m.decl.body is not None]
     decl = ctx.model.roles[role].decl
-    if len(commands) <= USER_COMMANDS or decl is None:
+    if len(entries) <= USER_COMMANDS or decl is None:
         return
     what = f"'{role}' applied to '{applied_to}'" if applied_to else f"role '{role}'"
+    behaviours = sum(1 for m in entries if m.kind is ast.MethodKind.BEHAVIOR)
+    counted = f"{len(entries)} commands and behaviours" if behaviours else f"{len(entries)} commands"
     ctx.report(codes.TOO_MANY_COMMANDS, decl.name.span,
-               f"{what} has {len(commands)} commands (inherited ones included); the target's "
-               f"command table holds {USER_COMMANDS}: merge or remove some",
-               related=tuple(diag.Related(m.decl.name.span, f"command '{m.name}'")
-                             for m in commands))
+               f"{what} has {counted} (inherited ones included); the target's command table holds "
+               f"{USER_COMMANDS}, behaviours included: merge or remove some",
+               related=tuple(diag.Related(m.decl.name.span, f"{m.kind.value} '{m.name}'")
+                             for m in entries))

@@ -16,35 +16,54 @@ from rdcd_core.syntax import ast
 from rdcd_core.syntax.lexer import Tok
 
 _HUGE = 10**18  # stands for integer literals too long to convert; semantics reports the range
-MAX_DEPTH = 100  # deeper trees would overflow the recursion of the later passes (and of dataclass ==)
+# Two limits keep the later passes, which recurse over trees, within Python's recursion limit (and
+# dataclass ==): how deeply constructs are nested in one another (brackets, calls, unary operators,
+# blocks, ifs), and the height of the tree, which chains also add to though nothing in them is nested:
+# each operator of a + b + c + … (left-associative) and each 'else if' is a level of the tree.
+MAX_DEPTH = 100
+MAX_HEIGHT = 300
 
 
 class _Depths(threading.local):
-    """Nesting depth of the composite nodes built by the current parse (of this thread)."""
+    """Nesting depth and tree height of the composite nodes built by the current parse (of this
+    thread), and the nodes where a limit is first passed."""
 
     def __init__(self) -> None:
         self.reset()
 
-    def reset(self) -> list:
+    def reset(self) -> tuple[list, list]:
         self.depth: defaultdict[int, int] = defaultdict(int)  # by id; 0 for tokens and leaves
+        self.height: defaultdict[int, int] = defaultdict(int)
         self.keep: list = []  # holds the nodes, so that their ids stay unique during the parse
         self.too_deep: list = []
-        return self.too_deep
+        self.too_long: list = []
+        return self.too_deep, self.too_long
 
 
 DEPTHS = _Depths()
 
 
-def _nested(node: Any, depth: int) -> Any:
-    DEPTHS.depth[id(node)] = depth
+def _nested(node: Any, children: Any, depth: int | None = None) -> Any:
+    """Records ``node``, one level above ``children`` (``depth``: its nesting depth, if not that)."""
+    depths, heights = DEPTHS.depth, DEPTHS.height
+    deepest = highest = 0
+    for child in children:  # plain ifs: this runs for every node of every parse
+        key = id(child)
+        level = depths.get(key, 0)
+        if level > deepest:
+            deepest = level
+        level = heights.get(key, 0)
+        if level > highest:
+            highest = level
+    key = id(node)
+    depths[key] = deepest + 1 if depth is None else depth
+    heights[key] = highest + 1
     DEPTHS.keep.append(node)
-    if depth == MAX_DEPTH + 1:
+    if depths[key] > MAX_DEPTH >= deepest:
         DEPTHS.too_deep.append(node)
+    elif heights[key] == MAX_HEIGHT + 1 and deepest <= MAX_DEPTH:
+        DEPTHS.too_long.append(node)
     return node
-
-
-def _deepest(children: Any) -> int:
-    return max(map(DEPTHS.depth.__getitem__, map(id, children)), default=0)
 
 
 def _span(first: Any, last: Any) -> Span:
@@ -117,13 +136,13 @@ class AstBuilder:
 
     def block(self, c: list) -> ast.Block:
         statements = tuple(c[1:-1])
-        return _nested(ast.Block(statements, _span(c[0], c[-1])), _deepest(statements) + 1)
+        return _nested(ast.Block(statements, _span(c[0], c[-1])), statements)
 
     def empty_stmt(self, c: list) -> ast.EmptyStmt:
         return ast.EmptyStmt(Span(c[0].start, c[0].end))
 
     def call_stmt(self, c: list) -> ast.CallStmt:
-        return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), DEPTHS.depth[id(c[0])] + 1)
+        return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), (c[0],))
 
     def if_stmt(self, c: list) -> ast.IfStmt:
         else_kw = c[5] if len(c) > 6 else None
@@ -131,23 +150,27 @@ class AstBuilder:
         last = else_body if else_body is not None else c[4]
         node = ast.IfStmt(c[2], c[4], else_body, _span(c[0], last),
                           Span(else_kw.start, else_kw.end) if else_kw is not None else None)
-        return _nested(node, _deepest((c[2], c[4], else_body)) + 1)
+        # if … else if … else if … is one level however long, like a + b + c
+        depths = DEPTHS.depth
+        chained = isinstance(else_body, ast.IfStmt)
+        depth = max(depths[id(c[2])], depths[id(c[4])], depths[id(else_body)] - chained) + 1
+        return _nested(node, (c[2], c[4], else_body), depth)
 
     # ------------------------------------------------------------------ calls
 
     def self_call(self, c: list) -> ast.SelfCall:
         args = _args(c)
         node = ast.SelfCall(_name(c[2]), args, len(c) > 3, _span(c[0], c[-1]))
-        return _nested(node, _deepest(args) + 1) if args else node
+        return _nested(node, args) if args else node
 
     def function_call(self, c: list) -> ast.FunctionCall:
         args = _args(c)
-        return _nested(ast.FunctionCall(_name(c[0]), args, _span(c[0], c[-1])), _deepest(args) + 1)
+        return _nested(ast.FunctionCall(_name(c[0]), args, _span(c[0], c[-1])), args)
 
     def global_call(self, c: list) -> ast.GlobalCall:
         args = _args(c)
         node = ast.GlobalCall(_name(c[0]), _name(c[2]), args, _span(c[0], c[-1]))
-        return _nested(node, _deepest(args) + 1) if args else node
+        return _nested(node, args) if args else node
 
     def args(self, c: list) -> list:
         return [x for x in c if not isinstance(x, Tok)]
@@ -157,11 +180,15 @@ class AstBuilder:
     def binary(self, c: list) -> ast.Binary:
         left, op, right = c
         depths = DEPTHS.depth
-        depth = max(depths[id(left)], depths[id(right)]) + 1
-        return _nested(ast.Binary(op.value, left, right, _span(left, right), Span(op.start, op.end)), depth)
+        # a + b + c is one level however long (the left operand is the chain so far): only what is
+        # nested in an operand adds to the depth
+        chained = isinstance(left, ast.Binary)
+        depth = max(depths[id(left)] - chained, depths[id(right)]) + 1
+        node = ast.Binary(op.value, left, right, _span(left, right), Span(op.start, op.end))
+        return _nested(node, (left, right), depth)
 
     def unary(self, c: list) -> ast.Unary:
-        return _nested(ast.Unary(c[0].value, c[1], _span(c[0], c[1])), DEPTHS.depth[id(c[1])] + 1)
+        return _nested(ast.Unary(c[0].value, c[1], _span(c[0], c[1])), (c[1],))
 
     def int_lit(self, c: list) -> ast.IntLit:
         tok = c[0]
@@ -176,4 +203,4 @@ class AstBuilder:
         return ast.NameRef(name, name.span)
 
     def paren(self, c: list) -> ast.Paren:
-        return _nested(ast.Paren(c[1], _span(c[0], c[2])), DEPTHS.depth[id(c[1])] + 1)
+        return _nested(ast.Paren(c[1], _span(c[0], c[2])), (c[1],))

@@ -37,3 +37,5 @@ E_AFTER_DEPLOYMENT = define_code(
     "E014", E, "role after the deployment", "deployment { A }\nrole A { }")
 E_TOO_DEEP = define_code(
     "E015", E, "nested too deeply", "role A { " + "(" * 101 + "1" + ")" * 101 + " > 0; }\ndeployment { A }")
+E_TOO_LONG = define_code(
+    "E016", E, "expression too long", "role A { " + "+".join(["1"] * 302) + " > 0; }\ndeployment { A }")

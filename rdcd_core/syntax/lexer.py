@@ -5,6 +5,11 @@ One regular expression, built from the grammar's terminal definitions, splits th
 table, names and numbers told by their first character. Comments are kept (for
 ``Program.comments``).
 Bad characters and an unterminated ``/*`` become diagnostics: the lexer never raises.
+
+Lines are the LSP's (``rdcd_core.source``): a line comment ends at ``\\n`` or ``\\r`` (so at
+``\\r\\n`` too) and nowhere else; form feed is white space inside a line, and vertical tab, U+0085,
+U+2028, U+2029 and the other characters ``str.splitlines`` breaks at are bad characters outside
+comments and ordinary ones inside them (grammar.lark's LINE_COMMENT, BLOCK_COMMENT and WS).
 """
 
 from __future__ import annotations

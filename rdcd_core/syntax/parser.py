@@ -17,8 +17,14 @@ from rdcd_core.diagnostics import Diagnostic, make
 from rdcd_core.gcpause import gc_paused
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
-from rdcd_core.syntax.builder import DEPTHS, MAX_DEPTH
-from rdcd_core.syntax.codes import E_MISSING_BODY, E_MISSING_DEPLOYMENT, E_TOO_DEEP, E_UNTERMINATED_COMMENT
+from rdcd_core.syntax.builder import DEPTHS, MAX_DEPTH, MAX_HEIGHT
+from rdcd_core.syntax.codes import (
+    E_MISSING_BODY,
+    E_MISSING_DEPLOYMENT,
+    E_TOO_DEEP,
+    E_TOO_LONG,
+    E_UNTERMINATED_COMMENT,
+)
 from rdcd_core.syntax.lexer import LexResult, Tok
 from rdcd_core.syntax.recovery import Recovery
 from rdcd_core.syntax.tables import Tables, tables
@@ -63,9 +69,9 @@ def _parse(text: str, previous: ParseResult | None) -> ParseResult:
 
 
 def _result(text: str, lexed: LexResult, driven: tuple[tuple, Recovery, list]) -> ParseResult:
-    (roles, deployment), recovery, too_deep = driven
-    if too_deep:
-        roles = _drop_too_deep(roles, too_deep, recovery.diagnostics)
+    (roles, deployment), recovery, (too_deep, too_long) = driven
+    if too_deep or too_long:
+        roles = _drop_too_deep(roles, too_deep, too_long, recovery.diagnostics)
     if deployment is None:
         deployment = recovery.saved_deployment
     diagnostics = lexed.diagnostics + recovery.diagnostics
@@ -140,15 +146,15 @@ def _ends_cleanly(stretch: LexResult, end: int, punctuation: dict[str, str]) -> 
 
 def _run(t: Tables, text: str, lexed: LexResult,
          reused: dict[int, ast.RoleDecl] | None) -> tuple[tuple, Recovery, list] | None:
-    """(roles and deployment, the recovery state, the trees nested too deeply) of one drive;
-    None if reusing roles met a syntax error."""
+    """(roles and deployment, the recovery state, (the trees nested too deeply, those too high)) of
+    one drive; None if reusing roles met a syntax error."""
     recovery = Recovery(t, text, lexed.tokens, lexed.after_error)
-    too_deep = DEPTHS.reset()
+    limits = DEPTHS.reset()
     try:
         driven = _drive(t, lexed.tokens, recovery, reused)
     finally:
         DEPTHS.reset()
-    return None if driven is None else (driven, recovery, too_deep)
+    return None if driven is None else (driven, recovery, limits)
 
 
 def _drive(t: Tables, tokens: list[Tok], recovery: Recovery,
@@ -220,12 +226,25 @@ def _drive(t: Tables, tokens: list[Tok], recovery: Recovery,
         pending.extend(reversed(inserted))
 
 
-def _drop_too_deep(roles: tuple[ast.RoleDecl, ...], too_deep: list, diagnostics: list[Diagnostic]) -> tuple:
-    """Drops the members holding a tree deeper than MAX_DEPTH: later passes recurse over trees."""
-    spans = [node.span for node in too_deep]
-    for span in spans[:20]:
-        diagnostics.append(make(E_TOO_DEEP, span, f"this is nested more than {MAX_DEPTH} levels deep: "
-                                "split it up (it is left out of the analysis)"))
+def _drop_too_deep(roles: tuple[ast.RoleDecl, ...], too_deep: list, too_long: list,
+                   diagnostics: list[Diagnostic]) -> tuple:
+    """Drops the members holding a tree nested deeper than MAX_DEPTH or higher than MAX_HEIGHT:
+    later passes recurse over trees."""
+    found = []  # the outermost of the nodes (too_deep and too_long can hold one inside another)
+    nodes = [(node.span, False) for node in too_deep] + [(node.span, True) for node in too_long]
+    for span, long in sorted(nodes, key=lambda item: (item[0].start, -item[0].end)):
+        if not found or span.end > found[-1][0].end:
+            found.append((span, long))
+    for span, long in found[:20]:
+        if long:
+            message = (f"this has more than {MAX_HEIGHT} operations one inside another (each operator of "
+                       "'a + b + c' and each 'else if' counts), more than rdcd takes: split it into "
+                       "constants or methods (it is left out of the analysis)")
+            diagnostics.append(make(E_TOO_LONG, span, message))
+        else:
+            diagnostics.append(make(E_TOO_DEEP, span, f"this is nested more than {MAX_DEPTH} levels deep: "
+                                    "split it up (it is left out of the analysis)"))
+    spans = [span for span, _ in found]
     result = []
     for role in roles:
         kept = tuple(m for m in role.members

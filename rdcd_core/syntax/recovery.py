@@ -18,16 +18,17 @@ import bisect
 
 from lark import Tree
 
-from rdcd_core.diagnostics import Diagnostic, make
+from rdcd_core.diagnostics import Diagnostic, Fix, TextEdit, make
 from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast, messages
 from rdcd_core.syntax import automaton as lr
 from rdcd_core.syntax import context as ctx
+from rdcd_core.syntax.codes import E_MISSING_SEMICOLON
 from rdcd_core.syntax.lexer import Tok
 from rdcd_core.syntax.messages import TEXT, Message
 from rdcd_core.syntax.tables import Tables
 
-_SINGLE = ("SEMI", "RPAR", "RBRACE", "COMMA", "LBRACE")
+_SINGLE = ("COMMA", "SEMI", "RPAR", "RBRACE", "LBRACE", "ASSIGN")  # on a tie, the first wins
 _DOUBLE = (("RPAR", "SEMI"), ("SEMI", "RBRACE"), ("RPAR", "RPAR"), ("RBRACE", "RBRACE"), ("LPAR", "RPAR"))
 # what a mistyped character (a BAD token of the lexer) may have meant
 _REPLACEMENTS = {"=": ("ASSIGN", "EQ"), ":": ("ASSIGN",), "&": ("AND",), "|": ("OR",)}
@@ -37,6 +38,7 @@ _TOP = frozenset({"ROLE", "DEPLOYMENT"})  # roles do not nest: these are resume 
 # what may close the constructs left open when panic mode resumes (';' = an empty if-body)
 _CLOSERS = ((), ("SEMI",), ("RBRACE",), ("SEMI", "RBRACE"), ("RBRACE", "RBRACE"), ("RBRACE",) * 3)
 _BOUNDARY = frozenset({"SEMI", "LBRACE", "RBRACE"})
+_FINISHED = _BOUNDARY  # a line ending in one of these is complete: an error on the next is the next's
 _NO_SKIP = _STRONG | {"LBRACE", "$END", "SEMI"}
 _LOOKAHEAD = 3  # tokens to shift after an error before the next one is reported
 _WINDOW = 10  # tokens a candidate repair is tried on
@@ -77,7 +79,7 @@ class Recovery:
         if tok.type != "$END" and lr.reduce_deployment(self.t, stack, values):
             self.saved_deployment = values.pop()
             stack.pop()
-            self._report(report, tok, messages.after_deployment(tok))
+            self._report(report, i, messages.after_deployment(tok))
             report = False
         if tok.type == "$END":
             if tries > 4:  # a safety net: the start state always accepts the end
@@ -112,21 +114,21 @@ class Recovery:
         k = ctx.open_bracket(values)
         if k >= 1 and values[k].type == "LBRACE" and ctx.brace_owner(values, k) == "the deployment":
             if tok.type == "NAME" and ctx.is_tok(values[-1], ("NAME",)):
-                self._report(report, tok, messages.inserted(values, tok, ("COMMA",), self._line))
+                self._report(report, i, messages.inserted(values, tok, ("COMMA",), self._line, self._prev(i)))
             else:
-                self._report_unexpected(report, stack, values, tok)
+                self._report_unexpected(report, stack, values, i)
             return self._salvage_deployment(stack, values, i, k)
         best = self._best_repair(stack, values, i)
         if best is None:
-            self._report_unexpected(report, stack, values, tok)
+            self._report_unexpected(report, stack, values, i)
             return self._panic(stack, values, i)
         kind, arg = best
         if kind == "rewind":
-            return self._rewind(stack, values, tok, report, *arg)
+            return self._rewind(stack, values, i, report, *arg)
         if kind == "insert":
-            self._report(report, tok, messages.inserted(values, tok, arg, self._line))
+            self._report(report, i, messages.inserted(values, tok, arg, self._line, self._prev(i)))
             return i, [self._virtual(cand, i) for cand in arg]
-        self._report_unexpected(report, stack, values, tok)
+        self._report_unexpected(report, stack, values, i)
         if kind == "delete":
             return i + arg, []
         stack.pop()  # "pop": the last token read goes
@@ -183,12 +185,12 @@ class Recovery:
         j = bisect.bisect_left(self._starts, start)
         return (depth, j) if j < i else None
 
-    def _rewind(self, stack: list, values: list, tok: Tok, report: bool, depth: int,
+    def _rewind(self, stack: list, values: list, i: int, report: bool, depth: int,
                 j: int) -> tuple[int, list[Tok]]:
         """Closes the block before the statement that starts at token ``j`` and reads on from there."""
-        message = messages.unclosed_block(values, depth, self.tokens[j], tok, self._line)
+        message = messages.unclosed_block(values, depth, self.tokens[j], self.tokens[i], self._line)
         if message is not None:
-            self._report(report, self.tokens[j], message)
+            self._report(report, j, message)
         del stack[depth + 1:]
         del values[depth:]
         return j, [self._virtual("RBRACE", j)]
@@ -250,7 +252,7 @@ class Recovery:
         else:
             if prev is not None and prev.type == "RBRACE":
                 self.brace_debt += 1
-            self._report(report, tok, messages.stray_else(values, prev, self._line))
+            self._report(report, i, messages.stray_else(values, prev, self._line))
         j = self._skip_statement(i + 1)
         if j >= len(self.tokens) or lr.accepts(self.t, stack, self._types(j, 1)):
             return j, []
@@ -258,9 +260,8 @@ class Recovery:
 
     def _complete_at_eof(self, stack: list, values: list, report: bool) -> None:
         """Closes whatever is open at the end of the file, dropping incomplete pieces."""
-        tok = Tok("$END", "", self.eof_offset, self.eof_offset)
         expected = lambda: lr.expected(self.t, stack)  # noqa: E731 - only computed if needed
-        self._report(report, tok, messages.end_of_file(values, expected, self._line))
+        self._report(report, len(self.tokens), messages.end_of_file(values, expected, self._line))
         self.reported_eof = True
         end = self.tokens[-1].end if self.tokens else 0
         self.completed_at = end
@@ -280,14 +281,44 @@ class Recovery:
 
     # ------------------------------------------------------------------ helpers
 
-    def _report_unexpected(self, report: bool, stack: list, values: list, tok: Tok) -> None:
+    def _report_unexpected(self, report: bool, stack: list, values: list, i: int) -> None:
         if report:
-            self._report(True, tok, messages.unexpected(values, tok, lr.expected(self.t, stack)))
+            tok = self._tok(i)
+            message = messages.unexpected(values, tok, lr.expected(self.t, stack), self._dangling(i))
+            self._report(True, i, message)
 
-    def _report(self, report: bool, tok: Tok, message: Message) -> None:
-        if report:
-            code, text, related = message
-            self.diagnostics.append(make(code, Span(tok.start, tok.end), text, related=related))
+    def _report(self, report: bool, i: int, message: Message) -> None:
+        """Reports ``message`` at tokens[i] (the end of the file if none), or just after the token before
+        it if the message says that something is missing there."""
+        if not report:
+            return
+        prev = self._prev(i)
+        if message.after_previous and prev is not None:
+            span = Span(prev.end, prev.end)
+        else:
+            tok = self._tok(i)
+            span = Span(tok.start, tok.end)
+        fixes = ()
+        if message.code == E_MISSING_SEMICOLON and span.start == span.end:
+            fixes = (Fix("insert ';'", (TextEdit(span, ";"),)),)
+        self.diagnostics.append(make(message.code, span, message.text, related=message.related, fixes=fixes))
+
+    def _tok(self, i: int) -> Tok:
+        """tokens[i], or the end of the file."""
+        if i < len(self.tokens):
+            return self.tokens[i]
+        return Tok("$END", "", self.eof_offset, self.eof_offset)
+
+    def _prev(self, i: int) -> Tok | None:
+        return self.tokens[i - 1] if 0 < i <= len(self.tokens) else None
+
+    def _dangling(self, i: int) -> Tok | None:
+        """The token before tokens[i] if it ends an earlier line in the middle of a construct: then what
+        the parser expected is missing at the end of that line (tokens[i] is not the one to blame)."""
+        prev = self._prev(i)
+        if prev is None or i >= len(self.tokens) or prev.type in _FINISHED:
+            return None
+        return prev if self._line(prev.end) < self._line(self.tokens[i].start) else None
 
     def _line(self, offset: int) -> int:
         if self._lines is None:

@@ -13,30 +13,10 @@ from pathlib import Path
 
 import pytest
 
+from tests.cli.helpers import assert_clean_failure, rdcd
 from tests.conftest import EXAMPLES, ROOT
 
 SNAKE = EXAMPLES / "snake_wave.rdcd"
-
-
-def rdcd(*args: str, env: dict[str, str] | None = None, **kwargs: object) -> subprocess.CompletedProcess[str]:
-    options: dict[str, object] = {"cwd": ROOT, "capture_output": True, "text": True, "timeout": 120,
-                                  "env": {**os.environ, **(env or {})}, "errors": "backslashreplace"}
-    options.update(kwargs)
-    done = subprocess.run([sys.executable, "-m", "rdcd_core", *args], **options)  # type: ignore[call-overload]
-    # pybullet prints a banner when `rdcd` imports the simulate subcommand: not ours to judge here
-    done.stderr = "".join(line for line in done.stderr.splitlines(keepends=True)
-                          if not line.startswith("pybullet build time"))
-    return done
-
-
-def assert_clean_failure(done: subprocess.CompletedProcess[str], status: int, *words: str) -> None:
-    """Failed with ``status`` and one line on stderr naming the problem; no traceback."""
-    assert done.returncode == status, (done.returncode, done.stdout[-500:], done.stderr[-2000:])
-    assert "Traceback" not in done.stderr and "Exception ignored" not in done.stderr, done.stderr
-    if status == 2:
-        assert len(done.stderr.strip().splitlines()) == 1, done.stderr
-    for word in words:
-        assert word in done.stderr, done.stderr
 
 
 def program_error_output(path: Path) -> list[str]:
@@ -373,7 +353,7 @@ def test_fmt_leaves_the_file_untouched_when_the_write_fails(tmp_path: Path) -> N
 
 
 def test_fmt_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from rdcd_core import inputs
+    from rdcd_core import outputs
 
     program = tmp_path / "a.rdcd"
     program.write_text("old text\n", encoding="utf-8")
@@ -381,9 +361,9 @@ def test_fmt_write_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) ->
     def full_disk(*args: object, **kwargs: object) -> None:
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(inputs.os, "fsync", full_disk)
+    monkeypatch.setattr(outputs.os, "fsync", full_disk)
     with pytest.raises(OSError):
-        inputs.write_atomically(str(program), "new text that does not fit\n")
+        outputs.write_atomically(str(program), "new text that does not fit\n")
     assert program.read_text(encoding="utf-8") == "old text\n"
     assert [p.name for p in tmp_path.iterdir()] == ["a.rdcd"]
 

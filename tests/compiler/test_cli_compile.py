@@ -14,9 +14,9 @@ OBSTACLE = str(EXAMPLES / "obstacle_avoidance.rdcd")
 def test_json_format(capsys):
     assert main(["compile", "--format", "json", OBSTACLE]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) == {"packet_budget", "total_bytes", "max_fragment_bytes", "fragments", "roles",
-                         "injection"}
-    assert data["packet_budget"] == 50
+    assert set(data) == {"target", "packet_budget", "total_bytes", "max_fragment_bytes", "fragments",
+                         "roles", "injection"}
+    assert data["packet_budget"] == 50 and data["target"] == "default"
     assert data["total_bytes"] == sum(f["size"] for f in data["fragments"]) <= 200
     assert len(data["fragments"]) <= 7 and data["max_fragment_bytes"] <= 43
     for fragment in data["fragments"]:
@@ -71,6 +71,40 @@ def test_strict_isa_refuses_extensions(tmp_path, capsys):
     capsys.readouterr()
     assert main(["compile", "--strict-isa", str(source)]) == 1
     assert "E605" in capsys.readouterr().err
+    assert main(["compile", "--target", "original", str(source)]) == 1
+    err = capsys.readouterr().err
+    assert "error[E605]: in role A: " in err and "ADD, which the original target does not run" in err
+
+
+def test_strict_isa_is_the_original_target(capsys):
+    outputs = []
+    for options in (["--target", "original"], ["--strict-isa"]):
+        assert main(["compile", "--format", "json", *options, OBSTACLE]) == 0
+        outputs.append(capsys.readouterr().out)
+    assert outputs[0] == outputs[1] and json.loads(outputs[0])["target"] == "original"
+
+
+def test_target_original_through_the_real_cli(tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "program.c"
+    done = subprocess.run([sys.executable, "-m", "rdcd_core", "compile", "--target", "original",
+                           "--format", "c", "-o", str(out), OBSTACLE], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    text = out.read_text()
+    assert "static void dcd_action(USSRONLY(USSREnv *env))" in text
+    snake = str(EXAMPLES / "snake_wave.rdcd")
+    done = subprocess.run([sys.executable, "-m", "rdcd_core", "check", "--target", "original", snake],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and "warning[W604]: in role Head" in done.stdout, done.stdout
+    done = subprocess.run([sys.executable, "-m", "rdcd_core", "check", snake], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0 and "W604" not in done.stdout
+    done = subprocess.run([sys.executable, "-m", "rdcd_core", "check", "--target", "firmware", snake],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and "invalid choice" in done.stderr
 
 
 def test_max_packet_changes_the_split(capsys):

@@ -24,6 +24,26 @@ def test_every_fragment_verifies_strictly(example_programs):
             assert fragment.size <= program.program_budget
 
 
+def test_every_example_compiles_for_the_original_target():
+    """Acceptance 1 of issue 11: every example, for the firmware, within its limits; the obstacle
+    program still under the hand-written 200 bytes."""
+    from tests.compiler.conftest import EXAMPLES, _compile
+    from vm.isa.targets import ORIGINAL
+
+    for path in sorted(EXAMPLES.glob("*.rdcd")):
+        if "verbatim" in path.name:
+            continue
+        program = _compile(path.read_text(encoding="utf-8"), target="original")
+        assert not program.has_errors, (path.name, [d.message for d in program.diagnostics])
+        assert program.target == "original"
+        for fragment in program.fragments:
+            assert verify(fragment.code, target=ORIGINAL) == [], (path.name, fragment.name)
+            assert fragment.size <= program.program_budget
+        if path.name == "obstacle_avoidance.rdcd":
+            assert program.diagnostics == [] and program.total_bytes < 200
+            assert len(program.fragments) <= 7 and program.max_fragment_bytes <= 43
+
+
 def test_disassemble_assemble_identity(example_programs):
     for program in example_programs.values():
         for fragment in program.fragments:

@@ -84,3 +84,31 @@ def test_snake_segments_take_roles_and_flash(example_programs):
     world.set_obstacles(frozenset(around))
     world.advance(2.0)
     assert {m: world.runtimes[m].led for m in roles} == {0: 0, 1: 7, 2: 7, 3: 7, 4: 7, 5: 7}
+
+
+@pytest.fixture(scope="module")
+def obstacle_original(obstacle_text):
+    from tests.compiler.conftest import _compile
+
+    return _compile(obstacle_text, target="original")
+
+
+@pytest.mark.parametrize("config", ["car7", "car11", "car17-wide"])
+def test_the_original_targets_code_finds_the_same_roles(obstacle_original, config):
+    """The code for the firmware, run in this project's VM (which runs every instruction it uses),
+    gives every module the same role (the firmware's own behaviour is the VM profile's test)."""
+    structure, world = start(obstacle_original, config)
+    assert world.roles_by_name() == structure.expected_roles
+    assert all(not state.errors for state in world.states())
+
+
+def test_the_original_targets_code_reverses_the_wheels(obstacle_original):
+    structure, world = start(obstacle_original, "car7")
+    names = world.roles_by_name()
+    wheels = [m for m, role in names.items() if role and role.endswith("Wheel")]
+    forward = {m: spin(world, m) for m in wheels}
+    world.set_obstacles(frozenset((x, 3, z) for x in range(-3, 4) for z in (-2, -1)))
+    world.advance(3.0)
+    world.set_obstacles(frozenset())
+    backward = {m: spin(world, m) for m in wheels}
+    assert wheels and all(backward[m] * forward[m] < 0 for m in wheels)

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import re
+
+import pytest
+
 from rdcd_core.compiler import target_diagnostics
-from rdcd_core.compiler.limits import role_id_limit
 from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.frontend import check_text
+from vm.isa.opcodes import ROLE_IDS
 
 
 def codes_of(text: str, **options) -> list[str]:
@@ -23,24 +27,51 @@ def observed_roles_program(concrete: int) -> str:
     return "\n".join(roles) + f"\ndeployment {{ {deployment} }}"
 
 
-def test_observed_abstract_roles_count_as_role_ids():
-    text = observed_roles_program(13)  # 13 concrete + A + B
-    model = check_text(text).model
-    table = build_role_table(model)
-    assert [e.name for e in table.entries[-2:]] == ["A", "B"]
-    diagnostics = role_id_limit(model, table)
-    assert [d.code for d in diagnostics] == ["E602"]
-    assert text[diagnostics[0].span.start:diagnostics[0].span.end] == "B"
-    assert codes_of(observed_roles_program(12)) == []
+def role_ids_the_checker_counts(text: str) -> int | None:
+    """The number in E120's message, None without E120."""
+    found = [d.message for d in check_text(text).diagnostics if d.code == "E120"]
+    return int(re.search(r"needs (\d+) role identifiers", found[0]).group(1)) if found else None
+
+
+MIXINS = ("\n".join(f"role R{i} {{ self.x() == {i}; startup s() {{ self.assumeRole(M, {{ }}); }} }}"
+                    for i in range(7))
+          + "\nrole M modifies Module { }\nrole N modifies R0 { }\n"
+          "role Q extends R0 { startup t() { self.assumeRole(N, { }); } }\n")
+
+
+@pytest.mark.parametrize(("text", "ids"), [
+    (observed_roles_program(13), 15),  # 13 concrete + A + B
+    (observed_roles_program(12), 14),
+    (MIXINS + "deployment { " + ", ".join(f"R{i}" for i in range(7)) + ", Q }", None),
+    (MIXINS + "deployment { " + ", ".join(f"R{i}" for i in range(6)) + " }", 13),
+])
+def test_the_checker_counts_the_role_ids_of_the_role_table(text: str, ids: int | None) -> None:
+    """E120 (the checker) is the only report of this limit (E602 is retired): its count must be
+    the compiler's role table, on both sides of the limit."""
+    table = build_role_table(check_text(text).model)
+    counted = role_ids_the_checker_counts(text)
+    assert counted == (len(table.entries) if len(table.entries) > ROLE_IDS else None)
+    if ids is not None:
+        assert len(table.entries) == ids
+    if counted is None:
+        assert codes_of(text) == []
 
 
 def test_behaviours_share_the_command_table():
+    """Counting entries is the checker's (E121); the compiler reports a command that finds no free
+    number because the commands it shares with other roles hold them (E603)."""
     methods = " ".join(f"command c{i}() {{ self.setLed({i}); }}" for i in range(4))
     methods += " behavior b1() { self.sleep(); } behavior b2() { self.sleep(); }"
     text = f"role A {{ self.x() > 0; {methods} }}\ndeployment {{ A }}"
-    diagnostics = target_diagnostics(check_text(text).model)
-    assert [d.code for d in diagnostics] == ["E603"]
-    assert text[diagnostics[0].span.start:diagnostics[0].span.end] == "b2"
+    assert [d.code for d in check_text(text).diagnostics] == ["E121"]
+    shared = ("role A { self.x() > 0; command a() { } command b() { } command c() { } command d() { }\n"
+              "  command e() { } }\nrole B { self.x() < 0; command a() { } command f() { } }\n"
+              "role C { self.x() == 0; command b() { } command c() { } command d() { } command e() { }\n"
+              "  command f() { } }\ndeployment { A, B, C }")
+    diagnostics = target_diagnostics(check_text(shared).model)
+    assert [d.code for d in diagnostics] == ["E603", "E603"]
+    assert {shared[d.span.start:d.span.end] for d in diagnostics} == {"f"}
+    assert "a command keeps one number in every role that has it" in diagnostics[0].message
 
 
 def test_eleven_stored_programs_is_a_warning():

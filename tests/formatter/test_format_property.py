@@ -1,5 +1,6 @@
-"""Over generated programs with random layout and comments: formatting keeps the AST and every
-comment, and formatting twice changes nothing."""
+"""Over generated programs with random layout and comments: formatting keeps the AST, the tokens
+and every comment, and formatting twice changes nothing. Layouts use every line break (\n, \r\n,
+a lone \r) and comments hold every other line-break-like character (form feed, U+2028, ...)."""
 
 from __future__ import annotations
 
@@ -7,11 +8,19 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rdcd_core.formatter import format_text
+from rdcd_core.source import count_line_breaks, newline_of, normalize_newlines
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.parser import parse
+from rdcd_core.syntax.tables import tables
 
 NAMES = ["a", "b", "speed", "Wheel", "EAST", "UP_DOWN", "EVENT_PROXIMITY_2"]
-SEPARATORS = [" ", " ", " ", "\n", "\n\n", "\t", "\n    ", " /* c */ ", " // note\n", "\n/* x\n  y */\n"]
+SEPARATORS = [" ", " ", " ", "\n", "\n\n", "\t", "\n    ", " /* c */ ", " // note\n", "\n/* x\n  y */\n",
+              "\r\n", "\r", "\r\r", "\r\n\r\n", "\f", " \f\n", " // note\r", " // n\r\n",
+              "\r/* x\r\n y\r z */\r",
+              # characters str.splitlines (and some editors) break at, which are no line breaks in RDCD
+              " // a\u2028b\x85c\n", " /* \v\x1c\x1d\x1e\u2029 */ ", " // \f\r", "\n// page\f\n",
+              " /*\u2028*/ ", " // ends in U+2029\u2029\n", "\ufeff"]
+OPERATOR_PAIRS = {"--", "++", "!=", "==", "<=", ">=", "&&", "||", ":="}  # would read as one operator
 
 
 def primary(draw: st.DrawFn, depth: int) -> list[str]:
@@ -27,7 +36,8 @@ def primary(draw: st.DrawFn, depth: int) -> list[str]:
     if choice == 4:
         return ["(", *expression(draw, depth - 1), ")"]
     if choice == 5:
-        return [draw(st.sampled_from(["-", "!"])), *primary(draw, depth - 1)]
+        deeper = depth - 1 if draw(st.booleans()) else depth  # "- -x" as often as "-(x)"
+        return [draw(st.sampled_from(["-", "!"])), *primary(draw, deeper)]
     return ["connected_role", "(", "DOWN", ",", "Wheel", ")"]
 
 
@@ -106,6 +116,10 @@ def programs(draw: st.DrawFn) -> str:
     return text
 
 
+def lexed(text: str) -> list:
+    return tables().lexer.lex(text).tokens
+
+
 @given(programs())
 def test_format_preserves_ast_comments_and_is_idempotent(text: str) -> None:
     parsed = parse(text)
@@ -116,5 +130,42 @@ def test_format_preserves_ast_comments_and_is_idempotent(text: str) -> None:
     again = parse(once)
     assert not again.diagnostics
     assert ast.strip_spans(again.program) == ast.strip_spans(parsed.program)
-    assert [c.text for c in again.program.comments] == [c.text for c in parsed.program.comments]
+    newline = newline_of(text)
+    assert [c.text for c in again.program.comments] == \
+        [normalize_newlines(c.text, newline) for c in parsed.program.comments]
     assert format_text(once) == once
+
+
+@given(programs())
+def test_format_writes_the_texts_own_line_break_only(text: str) -> None:
+    once = format_text(text)
+    if once is None:
+        return
+    newline = newline_of(text)
+    assert count_line_breaks(once) == once.count(newline), f"a line break other than {newline!r}"
+    if newline != "\r":
+        assert "\r" not in once.replace("\r\n", "")
+
+
+@given(programs())
+def test_format_keeps_the_tokens_and_never_glues_operators(text: str) -> None:
+    once = format_text(text)
+    if once is None:
+        return
+    before, after = lexed(text), lexed(once)
+    assert [(t.type, t.value) for t in after] == [(t.type, t.value) for t in before]
+    for left, right in zip(after, after[1:], strict=False):
+        if left.end == right.start:
+            assert left.value[-1] + right.value[0] not in OPERATOR_PAIRS, once[left.start:right.end]
+
+
+@given(programs(), st.sampled_from(["\r\n", "\r"]))
+def test_the_line_break_style_changes_nothing_else(text: str, newline: str) -> None:
+    if not count_line_breaks(text):
+        return  # nothing to tell the styles apart
+    lf = normalize_newlines(text)
+    formatted = format_text(lf)
+    other = format_text(normalize_newlines(text, newline))
+    assert (other is None) == (formatted is None)
+    if formatted is not None:
+        assert other == normalize_newlines(formatted, newline)

@@ -25,6 +25,7 @@ from rdcd_core.compiler import CompiledProgram, compile_model
 from rdcd_core.frontend import check_text
 from sim.config import load_config
 from sim.run import role_table
+from vm.isa.targets import DEFAULT, Target
 from vm.lattice.structure import Structure
 from vm.lattice.world import LatticeWorld
 
@@ -37,14 +38,15 @@ POLL_S = 0.1
 
 
 @functools.cache
-def compiled() -> CompiledProgram:
-    text = PROGRAM.read_text(encoding="utf-8")
+def compiled(target: str = "default", path: Path = PROGRAM) -> CompiledProgram:
+    """The program compiled for ``target`` (a name in vm.isa.targets.TARGETS)."""
+    text = path.read_text(encoding="utf-8")
     checked = check_text(text)
     if checked.has_errors or checked.model is None:
-        raise AssertionError(f"{PROGRAM.name} does not check: {checked.diagnostics}")
-    program = compile_model(checked.model, text=text)
+        raise AssertionError(f"{path.name} does not check: {checked.diagnostics}")
+    program = compile_model(checked.model, text=text, target=target)
     if program.has_errors or not program.injection:
-        raise AssertionError(f"{PROGRAM.name} does not compile: {program.diagnostics}")
+        raise AssertionError(f"{path.name} does not compile: {program.diagnostics}")
     return program
 
 
@@ -113,13 +115,15 @@ class LatticeRun:
 
 
 def start(config: str, *, seed: int = 0, loss: float = 0.0, spacing_s: float | None = 0.0,
-          limit_s: float = 60.0, margin_s: float = 3.0) -> LatticeRun:
+          limit_s: float = 60.0, margin_s: float = 3.0, target: str = "default",
+          vm: Target = DEFAULT, path: Path = PROGRAM) -> LatticeRun:
     """Inject the program and run until it has settled. ``spacing_s``: time between injections
     (0 = back to back, as ``rdcd simulate`` does); None = wait until each fragment has reached
-    every module and the links are quiet (the spacing the compiler's injection plan asks for)."""
+    every module and the links are quiet (the spacing the compiler's injection plan asks for).
+    ``target``: what the program (``path``) is compiled for; ``vm``: the VM profile the modules run."""
     began = time.perf_counter()
-    program, structure = compiled(), load_config(config)
-    world = LatticeWorld(structure, role_table(program), seed=seed, packet_loss=loss)
+    program, structure = compiled(target, path), load_config(config)
+    world = LatticeWorld(structure, role_table(program), seed=seed, packet_loss=loss, target=vm)
     entry_log = world.runtimes[structure.entry].event_log
     injected: dict[tuple[int, int], str] = {}
     for name in program.injection:

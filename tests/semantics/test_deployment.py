@@ -121,6 +121,27 @@ def test_command_limit_counts_inherited_commands(check) -> None:
     assert checked.source(error) == "A" and len(error.related) == 6
 
 
+def test_behaviours_take_command_table_entries(check) -> None:
+    """One limit, one rule: behaviours run as user commands, so the checker counts them with the
+    commands (before, only the compiler did, and only once the rest of the program was error-free)."""
+    commands = " ".join(f"command c{k}() {{ }}" for k in range(4))
+    checked = check(f"abstract role W {{ {commands} behavior b() {{ }} }}\n"
+                    "role A extends W { behavior d() { } }\ndeployment { A }")
+    [error] = checked.with_code("E121")
+    assert checked.source(error) == "A" and "6 commands and behaviours" in error.message
+    assert sorted(r.message for r in error.related)[:2] == ["behavior 'b'", "behavior 'd'"]
+    five = check(f"role A {{ {commands} behavior b() {{ }} }}\ndeployment {{ A }}")
+    assert five.with_code("E121") == []
+
+
+def test_a_mixins_behaviours_take_no_entry_of_its_application(check) -> None:
+    commands = " ".join(f"command c{k}() {{ }}" for k in range(4))
+    checked = check(f"role W {{ {commands} startup s() {{ self.assumeRole(M, {{ }}); }} }}\n"
+                    "role M modifies W { command d() { } behavior e() { } behavior f() { } }\n"
+                    "deployment { W }")
+    assert checked.with_code("E121") == []
+
+
 def test_lattice_parity_rules_out_witnesses(check) -> None:
     checked = check("role A { self.y() == 1; }\nrole B { self.center_position == NORTH_SOUTH; }\n"
                     "deployment { A, B }")

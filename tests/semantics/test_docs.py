@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from rdcd_core.diagnostics import all_codes
-from rdcd_core.diagnostics_doc import render
+from rdcd_core.diagnostics_doc import RETIRED, render
 from tests.conftest import ROOT
 
 
@@ -17,3 +17,11 @@ def test_every_code_is_documented() -> None:
     text = render()
     for info in all_codes():
         assert f"### {info.code}" in text
+
+
+def test_retired_codes_are_documented_and_never_reused() -> None:
+    text = render()
+    registered = {info.code for info in all_codes()}
+    for code in RETIRED:
+        assert code not in registered, code
+        assert f"### {code}" in text and "**retired**" in text.split(f"### {code}")[1].split("###")[0]

@@ -94,7 +94,7 @@ def _cli(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]
     ([PROGRAM, "--duration", "0"], "--duration"),
     ([PROGRAM, "--packet-loss", "2"], "--packet-loss"),
     ([PROGRAM, "--world", "lattice", "--record", "x.gif"], "physics world"),
-    ([PROGRAM, "--report", "/no/such/dir/r.json"], "folder does not exist"),
+    ([PROGRAM, "--report", "/no/such/dir/r.json"], "does not exist"),
 ])
 def test_cli_usage_errors_exit_2(capsys: pytest.CaptureFixture[str], args: list[str], fragment: str) -> None:
     status, out, err = _cli(capsys, *args)

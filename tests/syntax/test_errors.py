@@ -34,11 +34,11 @@ def test_figure5_verbatim_has_one_error_at_the_stray_brace() -> None:
 
 @pytest.mark.parametrize(("text", "code", "line", "message"), [
     ("role A {\n  self.x() > 0\n  startup f() { }\n}\ndeployment { A }",
-     "E004", 3, "expected ';' after the invariant"),
+     "E004", 2, "expected ';' after the invariant"),
     ("role A {\n  constant c := 3\n}\ndeployment { A }",
-     "E004", 3, "expected ';' after the constant definition"),
+     "E004", 2, "expected ';' after the constant definition"),
     ("role A {\n  abstract constant a, b\n}\ndeployment { A }",
-     "E004", 3, "expected ';' after the abstract constant list"),
+     "E004", 2, "expected ';' after the abstract constant list"),
     ("role A {\n  startup f() { self.sleep() }\n}\ndeployment { A }",
      "E004", 2, "expected ';' after the call"),
     ("role A extends {\n}\ndeployment { A }", "E007", 1, "expected a role name after 'extends'"),
@@ -52,7 +52,7 @@ def test_figure5_verbatim_has_one_error_at_the_stray_brace() -> None:
     ("role A {\n  sizeof(self.total_connected() > 0;\n}\ndeployment { A }",
      "E012", 2, "expected ')' to close the arguments of 'sizeof' opened on line 2"),
     ("role A {\n  startup f() {\n    self.sleep();\n\n  command g() { }\n}\ndeployment { A }",
-     "E012", 5, "expected '}' to close method 'f' opened on line 2"),
+     "E012", 3, "expected '}' to close method 'f' opened on line 2"),
     ("role A {\n  startup f() {\n    if (a > 0 self.sleep();\n  }\n}\ndeployment { A }",
      "E012", 3, "expected ')' to close the 'if' condition"),
     ("role A {\n  self.x() > 0;\n", "E006", 3, "the '{' of role 'A' on line 1 is never closed"),
@@ -85,7 +85,7 @@ def test_all_independent_errors_are_reported() -> None:
             "deployment { A B C }\n")
     found = errors(text)
     assert [(code, line) for code, line, _ in found] == [
-        ("E007", 1), ("E004", 3), ("E004", 3), ("E012", 5), ("E003", 6), ("E003", 7)]
+        ("E007", 1), ("E004", 2), ("E004", 3), ("E012", 5), ("E003", 6), ("E003", 7)]
     program = parse(text).program
     assert [r.name.text for r in program.roles] == ["A", "B", "C"]
     assert [n.text for n in program.deployment.roles] == ["A", "B", "C"]

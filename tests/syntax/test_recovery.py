@@ -43,16 +43,17 @@ def test_a_line_typed_anywhere_loses_no_role(name: str, inserted: str) -> None:
 def test_unclosed_method_before_members_is_one_error() -> None:
     text = ("role A {\n  startup go() {\n    self.sleep();\n\n  self.center_position == EAST_WEST;\n"
             "  sizeof(self.total_connected()) == 1;\n  command stop() { }\n}\ndeployment { A }")
-    assert [(code, line) for code, line, _ in errors(text)] == [("E012", 5)]
+    assert [(code, line) for code, line, _ in errors(text)] == [("E012", 3)]  # the '}' belongs after line 3
     (message,) = [m for _, _, m in errors(text)]
-    assert "expected '}' to close method 'go' opened on line 2" in message
+    assert ("expected '}' to close method 'go' opened on line 2: keyword 'self' on line 5 starts a member"
+            in message)
     kinds = [type(m).__name__ for m in parse(text).program.roles[0].members]
     assert kinds == ["MethodDecl", "Invariant", "Invariant", "MethodDecl"]
 
 
 def test_missing_method_body_brace() -> None:
     text = "role A {\n  startup go()\n    self.sleep();\n  }\n}\ndeployment { A }"
-    assert [(code, line) for code, line, _ in errors(text)] == [("E003", 3)]
+    assert [(code, line) for code, line, _ in errors(text)] == [("E003", 2)]  # the body belongs after 'go()'
     method = parse(text).program.roles[0].members[0]
     assert isinstance(method, ast.MethodDecl) and len(method.body.statements) == 1
 
@@ -74,7 +75,7 @@ def test_garbage_between_roles_is_skipped_in_one_error() -> None:
 
 def test_unclosed_role_is_closed_at_the_next_role() -> None:
     text = "role A {\n  x > 0;\n  startup go() { self.sleep();\nrole B { }\ndeployment { A, B }"
-    assert [(code, line) for code, line, _ in errors(text)] == [("E012", 4)]
+    assert [(code, line) for code, line, _ in errors(text)] == [("E012", 3)]
     assert role_names(text) == ["A", "B"]
 
 

@@ -8,6 +8,7 @@ import random
 from dataclasses import dataclass, field
 
 from vm import navigation as nav
+from vm.isa.targets import DEFAULT, Target
 from vm.roles import RoleTable
 from vm.runtime import ModuleRuntime
 
@@ -79,7 +80,7 @@ class World:
 
     def __init__(self, placed: list[Placed], roles: RoleTable | None = None, *, loss: float = 0.0,
                  seed: int = 0, dt: float = 0.01, corrupt: float = 0.0, max_delay: int = 0,
-                 checksum: bool = False) -> None:
+                 checksum: bool = False, target: Target = DEFAULT) -> None:
         self.placed = placed
         self.time = 0.0
         self.dt = dt
@@ -98,8 +99,8 @@ class World:
                     assert placed[j].axis == raxis
                     self.links[(i, p.mount[v])] = (j, placed[j].mount[rv])
                     self.hals[i].connected.add(p.mount[v])
-        self.vms = [ModuleRuntime(h, roles or RoleTable(), module_id=i, seed=seed, checksum=checksum)
-                    for i, h in enumerate(self.hals)]
+        self.vms = [ModuleRuntime(h, roles or RoleTable(), module_id=i, seed=seed, checksum=checksum,
+                                  target=target) for i, h in enumerate(self.hals)]
         self.in_flight: list[tuple[int, int, int, bytes]] = []
         self.ticks = 0
         self.delivered = 0

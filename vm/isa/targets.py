@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vm.isa.opcodes import INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
+from vm.isa.opcodes import BY_NAME, INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, PROGRAM_SLOTS, SLOT_BYTES
 
 
 @dataclass(frozen=True, slots=True)
@@ -25,6 +25,8 @@ class Quirks:
     apply_64_broadcasts: bool = False  # APPLY with f = 64 broadcasts command a to every role
     no_duplicate_suppression: bool = False  # programs circulate in cyclic structures
     ud_offsets_swapped: bool = False  # UD channel 5/7 x-offsets swapped (coordinates learned wrong)
+    unknown_instruction_halts: bool = False  # an opcode it does not execute halts the module
+    no_acknowledgements: bool = False  # packets are sent once: no acks, no retransmission (dcd-vm.md §6)
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,9 +39,23 @@ class Target:
     program_slots: int
     quirks: Quirks
     description: str
+    # (axis, direction) pairs for which CONNECTED_DIR_SIZEOF runs; None = every pair. Elsewhere the
+    # firmware halts the module (dcd-vm.md §10).
+    dir_sizeof_pairs: frozenset[tuple[int, int]] | None = None
+    # The program is built into the firmware as a C file (dcd_action, check_role_instanceof) rather
+    # than read at run time: the compiler's C form is that file (dcd-vm.md §10, "Loading").
+    loads_c_file: bool = False
 
     def implements(self, opcode: int) -> bool:
         return opcode >= 128 or opcode in self.opcodes
+
+    def implements_name(self, name: str) -> bool:
+        """Whether the instruction called ``name`` (``vm.isa.opcodes``) runs on this target."""
+        info = BY_NAME.get(name)
+        return info is not None and info.opcode in self.opcodes
+
+    def dir_sizeof_runs(self, axis: int, direction: int) -> bool:
+        return self.dir_sizeof_pairs is None or (axis, direction) in self.dir_sizeof_pairs
 
 
 def _ranges(*spans: tuple[int, int]) -> frozenset[int]:
@@ -69,8 +85,12 @@ ORIGINAL = Target(
     quirks=Quirks(enable_event_toggles=True, connected_dir_sizeof_popcount_of_count=True,
                   connected_dir_sizeof_limited=True, connected_physical_bits=True,
                   handler_refires_with_zero=True, apply_64_broadcasts=True,
-                  no_duplicate_suppression=True, ud_offsets_swapped=True),
+                  no_duplicate_suppression=True, ud_offsets_swapped=True,
+                  unknown_instruction_halts=True, no_acknowledgements=True),
     description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
+    # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (dcd-vm.md §5, §10)
+    dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
+    loads_c_file=True,
 )
 
 TARGETS: dict[str, Target] = {target.name: target for target in (DEFAULT, ORIGINAL)}

@@ -13,40 +13,74 @@ refuses this project's extension opcodes. Returns error strings; never raises.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble, successors
 from vm.isa.opcodes import BY_OPCODE, COMMANDS, MAX_STACK, SLOT_BYTES, USER_COMMAND_BASE, Operand
+from vm.isa.targets import Target
 from vm.navigation import DIRECTIONS
 
 MAX_FRAGMENT = SLOT_BYTES
 
 
-def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT) -> list[str]:
-    """Errors of a fragment ([] when it is well formed)."""
+@dataclass(frozen=True, slots=True)
+class _Rules:
+    strict: bool
+    max_size: int
+    max_stack: int = MAX_STACK
+    target: Target | None = None
+    handler: bool = False  # the code is a handler (HANDLE_EVENT's range)
+
+
+def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT,
+           target: Target | None = None, max_stack: int = MAX_STACK) -> list[str]:
+    """Errors of a fragment ([] when it is well formed). ``max_stack`` applies without a target
+    (the compiler raises it to tell a malformed fragment from one over a target's limits)."""
     if isinstance(code, int):  # bytes(n) would make n zero bytes
         return [f"not a fragment: {type(code).__name__}"]
     try:
         code = bytes(code)
     except (TypeError, ValueError) as error:
         return [f"not a fragment: {error}"]
-    return _verify(code, strict, max_size, depth=0)
+    rules = _Rules(strict, max_size, max_stack)
+    if target is not None:
+        rules = _Rules(strict, min(max_size, target.slot_bytes), target.max_stack, target)
+    return _verify(code, rules, depth=0)
 
 
-def _verify(code: bytes, strict: bool, max_size: int, depth: int) -> list[str]:
+def _verify(code: bytes, rules: _Rules, depth: int) -> list[str]:
     if not code:
         return ["empty fragment"]
-    if len(code) > max_size:
-        return [f"fragment of {len(code)} bytes exceeds the {max_size}-byte program slot"]
+    if len(code) > rules.max_size:
+        return [f"fragment of {len(code)} bytes exceeds the {rules.max_size}-byte program slot"]
     decoded = disassemble(code)
     errors: list[str] = []
     for d in decoded:
-        errors.extend(_check_instruction(d, code, strict))
+        errors.extend(_check_instruction(d, code, rules))
     if errors:
         return errors
     at = {d.offset: d for d in decoded}
-    return _check_flow(code, at, strict, max_size, depth)
+    errors = _check_flow(code, at, rules, depth)
+    if not errors and rules.target is not None:
+        errors = _check_steps(code, at, rules.target)
+    return errors
 
 
-def _check_instruction(d: Decoded, code: bytes, strict: bool) -> list[str]:
+def _check_target(d: Decoded, rules: _Rules) -> list[str]:
+    target = rules.target
+    if target is None or d.info is None:
+        return []
+    where = f"offset {d.offset}"
+    if not target.implements(d.opcode):
+        return [f"{where}: {d.name} is not implemented by the {target.name} target"]
+    if rules.handler and d.name == "PUSH_ARGUMENT" and target.quirks.handler_refires_with_zero:
+        return [f"{where}: PUSH_ARGUMENT in a handler: the {target.name} target runs handlers with "
+                "argument 0"]
+    return []
+
+
+def _check_instruction(d: Decoded, code: bytes, rules: _Rules) -> list[str]:
+    strict = rules.strict
     where = f"offset {d.offset}"
     if d.raw:
         if d.opcode in BY_OPCODE:
@@ -54,7 +88,7 @@ def _check_instruction(d: Decoded, code: bytes, strict: bool) -> list[str]:
         return [f"{where}: unknown opcode {d.opcode}"]
     if d.info is None:
         return []
-    errors: list[str] = []
+    errors: list[str] = _check_target(d, rules)
     if strict and d.info.ext:
         errors.append(f"{where}: {d.name} is an extension opcode, refused under strict ISA")
     for kind, value in zip(d.info.operands, d.operands, strict=True):
@@ -71,7 +105,7 @@ def _check_instruction(d: Decoded, code: bytes, strict: bool) -> list[str]:
     return errors
 
 
-def _check_targets(d: Decoded, code: bytes, at: dict[int, Decoded], strict: bool, max_size: int,
+def _check_targets(d: Decoded, code: bytes, at: dict[int, Decoded], rules: _Rules,
                    depth: int) -> list[str]:
     if d.info is None:
         return []
@@ -94,13 +128,14 @@ def _check_targets(d: Decoded, code: bytes, at: dict[int, Decoded], strict: bool
         elif start not in at or (end not in at and end != len(code)):
             errors.append(f"{where}: code range [{start}, {end}) is not on instruction boundaries")
         elif (start, end) != (0, len(code)) and depth < 8:
-            for e in _verify(code[start:end], strict, max_size, depth + 1):
+            inner = _Rules(rules.strict, rules.max_size, rules.max_stack, rules.target,
+                           handler=d.name == "HANDLE_EVENT")
+            for e in _verify(code[start:end], inner, depth + 1):
                 errors.append(f"{where}: embedded code [{start}, {end}): {e}")
     return errors
 
 
-def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int,
-                depth: int) -> list[str]:
+def _check_flow(code: bytes, at: dict[int, Decoded], rules: _Rules, depth: int) -> list[str]:
     """Walk the control-flow graph from offset 0 with the set of stack depths at each instruction.
     Targets and code ranges are checked only where the instruction runs as part of this code:
     an embedded handler's instructions are checked when the handler is verified on its own."""
@@ -112,7 +147,7 @@ def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int
         pc, stack = work.pop()
         if pc not in seen:
             seen[pc] = set()
-            problems = _check_targets(at[pc], code, at, strict, max_size, depth)
+            problems = _check_targets(at[pc], code, at, rules, depth)
             errors.extend(problems)
             if problems:
                 broken.add(pc)
@@ -125,8 +160,8 @@ def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int
             errors.append(f"offset {pc}: {d.name} pops {pops} value(s) from a stack of {stack}")
             continue
         after = stack - pops + pushes
-        if after > MAX_STACK:
-            errors.append(f"offset {pc}: {d.name} overflows the {MAX_STACK}-entry stack")
+        if after > rules.max_stack:
+            errors.append(f"offset {pc}: {d.name} overflows the {rules.max_stack}-entry stack")
             continue
         for nxt in successors(d):
             if nxt >= len(code):
@@ -136,3 +171,32 @@ def _check_flow(code: bytes, at: dict[int, Decoded], strict: bool, max_size: int
     return sorted(set(errors), key=lambda e: int(e.split(":")[0].split()[1]))
 
 
+
+
+def _check_steps(code: bytes, at: dict[int, Decoded], target: Target) -> list[str]:
+    """The most instructions one run executes, over every path from offset 0 (the flow is already
+    known to be well formed). A cycle could repeat without bound: refused."""
+    longest: dict[int, int] = {}
+    on_path: set[int] = set()
+    # iterative depth-first search: (pc, successors still to visit)
+    stack: list[tuple[int, list[int]]] = [(0, list(successors(at[0])))]
+    on_path.add(0)
+    while stack:
+        pc, pending = stack[-1]
+        if pending:
+            nxt = pending.pop()
+            if nxt in on_path:
+                return [f"offset {at[pc].offset}: {at[pc].name} jumps back to offset {nxt}: a loop "
+                        f"inside one run, which the {target.name} target ends after "
+                        f"{target.max_steps_per_run} instructions"]
+            if nxt not in longest:
+                on_path.add(nxt)
+                stack.append((nxt, list(successors(at[nxt]))))
+            continue
+        stack.pop()
+        on_path.discard(pc)
+        longest[pc] = 1 + max((longest[n] for n in successors(at[pc])), default=0)
+    if longest[0] > target.max_steps_per_run:
+        return [f"offset 0: a run may execute {longest[0]} instructions, more than the "
+                f"{target.max_steps_per_run} of the {target.name} target"]
+    return []

@@ -14,6 +14,7 @@ import random
 from dataclasses import dataclass
 from typing import Any
 
+from vm.isa.targets import DEFAULT, Target
 from vm.lattice.hal import LatticeHal
 from vm.lattice.network import Counters, Network
 from vm.lattice.structure import Structure
@@ -52,13 +53,15 @@ class LatticeWorld:
                  packet_loss: float = 0.0, packet_corruption: float = 0.0, latency_s: float = 0.01,
                  latency_jitter_s: float = 0.0, obstacles: frozenset[Vec] = frozenset(),
                  joint_speed_turns_per_s: float = 1 / 6, tick_s: float = 0.01,
-                 sensor_range_steps: int = 2, modules_visible: bool = False) -> None:
+                 sensor_range_steps: int = 2, modules_visible: bool = False,
+                 target: Target = DEFAULT) -> None:
         if tick_s <= 0 or joint_speed_turns_per_s <= 0 or sensor_range_steps < 1:
             raise ValueError("tick, joint speed and sensor range must be positive")
         self.structure = structure
         self.role_table = role_table
         self.seed = seed
         self.tick_s = tick_s
+        self.target = target  # the VM profile every module runs (vm.isa.targets)
         self.ticks = 0
         self._order = sorted(structure.modules)
         self._woken: set[int] = set()
@@ -73,7 +76,7 @@ class LatticeWorld:
         self.runtimes: dict[int, ModuleRuntime] = {}
         for mid in structure.modules:
             hal = LatticeHal(self, mid, joint_speed_turns_per_s * 360.0)
-            runtime = ModuleRuntime(hal, role_table, module_id=mid, seed=seed)
+            runtime = ModuleRuntime(hal, role_table, module_id=mid, seed=seed, target=target)
             runtime.on_event = self._recorder(mid)
             self.hals[mid], self.runtimes[mid] = hal, runtime
 

@@ -18,6 +18,11 @@ function fragmentSizeHintsEnabled(): boolean {
   return vscode.workspace.getConfiguration("rdcd").get<boolean>("inlayHints.fragmentSizes", true);
 }
 
+/** What programs are checked and compiled for: "default" (this project's VM) or "original" (the firmware). */
+function targetSetting(): string {
+  return vscode.workspace.getConfiguration("rdcd").get<string>("target", "default");
+}
+
 function describe(command: ServerCommand): string {
   return `${[command.command, ...command.args].join(" ")} from ${command.source}`;
 }
@@ -114,8 +119,12 @@ export class ServerManager implements vscode.Disposable {
       // Pushes setting changes to servers that do not pull them with workspace/configuration.
       // eslint-disable-next-line @typescript-eslint/no-deprecated
       synchronize: { configurationSection: "rdcd" },
-      // The server honours rdcd.inlayHints.fragmentSizes: from here at start, then through synchronize.
-      initializationOptions: { inlayHints: { fragmentSizes: fragmentSizeHintsEnabled() } },
+      // The server honours rdcd.inlayHints.fragmentSizes and rdcd.target: from here at start, then
+      // through synchronize.
+      initializationOptions: {
+        inlayHints: { fragmentSizes: fragmentSizeHintsEnabled() },
+        target: targetSetting(),
+      },
     };
     const client = new LanguageClient("rdcd", "RDCD Language Server", serverOptions, clientOptions);
     this.client = client;

@@ -3,7 +3,7 @@ import * as path from "node:path";
 import * as vscode from "vscode";
 import { LANGUAGE_ID, type ServerManager } from "./client";
 import { renderErrorHtml, renderReportHtml } from "./reportHtml";
-import { buildSimulateArgs, parseSimulateResult } from "./simulateArgs";
+import { buildSimulateArgs, isCancelledRequest, parseSimulateResult } from "./simulateArgs";
 
 export class SimulationView implements vscode.Disposable {
   private panel: vscode.WebviewPanel | undefined;
@@ -31,6 +31,7 @@ export class SimulationView implements vscode.Disposable {
       seed: settings.get("seed"),
       world: settings.get("world"),
       packetLoss: settings.get("packetLoss"),
+      vm: settings.get("vm"),
     });
     const fileName = path.basename(document.uri.fsPath || document.uri.path);
     let raw: unknown;
@@ -44,11 +45,12 @@ export class SimulationView implements vscode.Disposable {
         (_progress, token) => this.server.executeCommand("rdcd.simulate", args, token),
       );
     } catch (error) {
-      const message = error instanceof Error ? error.message : String(error);
-      if (/cancel/i.test(message)) {
+      if (error instanceof vscode.CancellationError || isCancelledRequest(error)) {
         void vscode.window.showInformationMessage("RDCD: simulation cancelled.");
         return;
       }
+      // the server's message is the first error, "file:line:column: error[CODE]: …", in one line
+      const message = error instanceof Error ? error.message : String(error);
       this.show(fileName, null).webview.html = renderErrorHtml(fileName, message, this.panel?.webview.cspSource ?? "");
       void vscode.window.showErrorMessage(`RDCD: simulation failed: ${message}`);
       return;

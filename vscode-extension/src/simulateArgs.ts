@@ -8,6 +8,7 @@ export interface SimulateSettings {
   readonly seed?: unknown;
   readonly world?: unknown;
   readonly packetLoss?: unknown;
+  readonly vm?: unknown;
 }
 
 export interface SimulateOptions {
@@ -19,6 +20,8 @@ export interface SimulateOptions {
   world?: string;
   /** Probability that an IR packet is lost, 0..1; sent only when above 0. */
   packetLoss?: number;
+  /** VM profile of the modules: "default" or "original" (the ATRON firmware); sent only when set. */
+  vm?: string;
 }
 
 export const SIMULATE_DEFAULTS: Readonly<SimulateOptions> = {
@@ -63,12 +66,26 @@ export function simulateOptions(settings: SimulateSettings): SimulateOptions {
   if (packetLoss !== undefined && packetLoss > 0 && packetLoss <= 1) {
     options.packetLoss = packetLoss;
   }
+  if (typeof settings.vm === "string" && settings.vm.trim() !== "") {
+    options.vm = settings.vm.trim();
+  }
   return options;
 }
 
-/** `[uri, {config, obstacle, duration, seed, world?, packetLoss?}]`, the arguments of executeCommand rdcd.simulate. */
+/** `[uri, {config, obstacle, duration, seed, world?, packetLoss?, vm?}]`, the arguments of executeCommand rdcd.simulate. */
 export function buildSimulateArgs(uri: string, settings: SimulateSettings): [string, SimulateOptions] {
   return [uri, simulateOptions(settings)];
+}
+
+/** JSON-RPC's RequestCancelled and LSP's ServerCancelled. */
+const CANCELLED_CODES: readonly number[] = [-32800, -32802];
+
+/**
+ * Whether a failed rdcd.simulate request was cancelled (by the user or the server). Decided by the
+ * error code: the message of a real failure names the user's file, and a file may be called cancel.rdcd.
+ */
+export function isCancelledRequest(error: unknown): boolean {
+  return isRecord(error) && typeof error["code"] === "number" && CANCELLED_CODES.includes(error["code"]);
 }
 
 export function isRecord(value: unknown): value is Record<string, unknown> {

@@ -49,9 +49,11 @@ describe("package.json", () => {
       "rdcd.server.pythonPath",
       "rdcd.server.args",
       "rdcd.inlayHints.fragmentSizes",
+      "rdcd.target",
       "rdcd.simulate.config",
       "rdcd.simulate.obstacle",
       "rdcd.simulate.duration",
+      "rdcd.simulate.vm",
       "rdcd.trace.server",
     ]) {
       assert.ok(settings.includes(name), name);

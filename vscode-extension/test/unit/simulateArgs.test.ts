@@ -1,5 +1,5 @@
 import * as assert from "node:assert/strict";
-import { buildSimulateArgs, parseSimulateResult, SIMULATE_DEFAULTS } from "../../src/simulateArgs";
+import { buildSimulateArgs, isCancelledRequest, parseSimulateResult, SIMULATE_DEFAULTS } from "../../src/simulateArgs";
 
 describe("buildSimulateArgs", () => {
   it("passes the settings through as [uri, {config, obstacle, duration, seed}]", () => {
@@ -16,6 +16,12 @@ describe("buildSimulateArgs", () => {
   it("adds the world only when one is set", () => {
     assert.equal(buildSimulateArgs("u", { world: "lattice" })[1].world, "lattice");
     assert.equal("world" in buildSimulateArgs("u", { world: "" })[1], false);
+  });
+
+  it("adds the VM profile only when one is set", () => {
+    assert.equal(buildSimulateArgs("u", { vm: "original" })[1].vm, "original");
+    assert.equal("vm" in buildSimulateArgs("u", { vm: "" })[1], false);
+    assert.equal("vm" in buildSimulateArgs("u", { vm: 3 })[1], false);
   });
 
   it("turns a distance into a wall and null into none", () => {
@@ -54,5 +60,16 @@ describe("parseSimulateResult", () => {
     assert.throws(() => parseSimulateResult({ report: { ...report, modules: [{ id: "0" }] }, plotPath: null }), /not \{report/);
     assert.throws(() => parseSimulateResult({ report: { ...report, fragments: [{ name: "f" }] }, plotPath: null }), /not \{report/);
     assert.throws(() => parseSimulateResult({ report }), /not \{report/);
+  });
+});
+
+describe("isCancelledRequest", () => {
+  it("goes by the error code, not by words in the message", () => {
+    assert.equal(isCancelledRequest({ code: -32800, message: "simulation cancelled" }), true);
+    assert.equal(isCancelledRequest({ code: -32802, message: "" }), true);
+    const failure = Object.assign(new Error("/w/cancel.rdcd:2:5: error[E003]: unexpected ':='"), { code: -32803 });
+    assert.equal(isCancelledRequest(failure), false);
+    assert.equal(isCancelledRequest(new Error("cancelled")), false);
+    assert.equal(isCancelledRequest(undefined), false);
   });
 });
