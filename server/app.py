@@ -7,15 +7,18 @@ Language features live in ``server/features.py`` and ``server/views.py``, comman
 from __future__ import annotations
 
 import asyncio
+import functools
 import logging
+import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
 
 from rdcd_core import __version__
-from rdcd_core.ide.analysis import Analysis
+from rdcd_core.ide.analysis import Analysis, analyze
 from server.config import Settings
 from server.convert import Positions
 from server.documents import Document, Documents
@@ -32,6 +35,8 @@ class RdcdServer(LanguageServer):
                          protocol_cls=RdcdProtocol)
         self.documents = Documents()
         self.settings = settings or Settings()
+        # Checks run here, one at a time, so that a long one never holds up the event loop.
+        self.checker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="rdcd-check")
 
     def report_server_error(self, error: Exception, source: Any) -> None:
         """Bad input is logged, not shown to the user in a message box."""
@@ -77,7 +82,9 @@ class RdcdServer(LanguageServer):
             if document.version != version or self.documents.get(document.uri) is not document:
                 return  # a newer change is on its way
             started = time.perf_counter()
-            analysis = document.current()
+            analysis = await self.analysis_of(document)
+            if analysis is None:
+                return  # the text moved on meanwhile; its own check publishes
             checked = time.perf_counter()
             self.publish(document, analysis, version)
             log.debug("%s v%d: checked in %.1f ms, published in %.1f ms", document.uri, version,
@@ -86,6 +93,44 @@ class RdcdServer(LanguageServer):
             pass
         except Exception:
             log.exception("checking %s failed", document.uri)
+
+    async def analysis_of(self, document: Document) -> Analysis | None:
+        """The analysis of the document's text as it is now, made in the worker thread while the
+        event loop goes on answering; None if the text changed before it was ready. Every request
+        waiting for the same version shares one check."""
+        if document.analysis is not None:
+            return document.analysis
+        version, text, target = document.version, document.text, document.target
+        if document.checking is None or document.checking_key != (version, target):
+            previous = document.last_good
+            future = asyncio.get_running_loop().run_in_executor(
+                self.checker, self._analyze, document, version, text, previous, target)
+            future.add_done_callback(functools.partial(self._checked, document, version, text, target))
+            document.checking, document.checking_key = future, (version, target)
+        # shielded: a cancelled request (or debounce) must not cancel a check others wait for
+        await asyncio.shield(document.checking)
+        return document.analysis if document.text is text else None
+
+    @staticmethod
+    def _analyze(document: Document, version: int, text: str, previous: Analysis | None,
+                 target: str) -> Analysis | None:
+        """Runs in the worker thread. A check queued behind others is skipped once its version
+        (or target) is no longer the document's (reading an attribute is safe from this thread)."""
+        if document.version != version or document.target != target:
+            return None
+        return analyze(text, previous=previous, target=target)
+
+    @staticmethod
+    def _checked(document: Document, version: int, text: str, target: str, future: asyncio.Future) -> None:
+        """On the loop's thread: records what the worker found."""
+        if document.checking is future:
+            document.checking = document.checking_key = None
+        if future.cancelled():
+            return
+        if future.exception() is not None:
+            log.error("checking %s failed: %s", document.uri, future.exception())
+        elif future.result() is not None:
+            document.record(future.result(), version, text, target)
 
     def publish(self, document: Document, analysis: Analysis, version: int) -> None:
         """Publishes unless a newer version was already published or the text moved on."""
@@ -99,7 +144,13 @@ class RdcdServer(LanguageServer):
             types.PublishDiagnosticsParams(uri=document.uri, diagnostics=diagnostics, version=version))
 
 
+# The check thread and the loop share the GIL: hand it over every millisecond (not every 5), so
+# that a request arriving during a long check is answered within a few milliseconds.
+SWITCH_INTERVAL = 0.001
+
+
 def create_server(settings: Settings | None = None) -> RdcdServer:
+    sys.setswitchinterval(SWITCH_INTERVAL)
     server = RdcdServer(settings)
     from server import commands, features, sync, views
 

@@ -44,59 +44,83 @@ def _locate(ls: RdcdServer, params):  # type: ignore[no-untyped-def]
     return document, positions, positions.offset(params.position)
 
 
+async def _exact(ls: RdcdServer, params):  # type: ignore[no-untyped-def]
+    """(document, positions, offset, analysis) for a request whose answer must match the text it
+    was asked on (locations, edits): waits for that text's check without holding up the loop;
+    None for an unknown document, or when the text changed meanwhile (the client asks again)."""
+    document = ls.document(params.text_document.uri)
+    if document is None:
+        return None
+    text = document.text
+    analysis = await ls.analysis_of(document)
+    if analysis is None or document.text is not text:
+        return None
+    positions = ls.positions(document)
+    return document, positions, positions.offset(params.position), analysis
+
+
 def register(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     @guarded()
     def on_hover(ls: RdcdServer, params: types.HoverParams) -> types.Hover | None:
+        """Never waits for a check: answers from the newest finished analysis, outside the part
+        of the text edited since (a long check must not make hovering hang)."""
         located = _locate(ls, params)
         if located is None:
             return None
         document, positions, offset = located
-        result = hover.hover(document.current(), offset)
-        if result is None:
+        found = document.stale()
+        if found is None:
+            return None
+        analysis, shift = found
+        old = shift.to_old(offset)
+        result = hover.hover(analysis, old) if old is not None else None
+        span = shift.to_new(result.span) if result is not None else None
+        if result is None or span is None:
             return None
         content = types.MarkupContent(kind=types.MarkupKind.Markdown, value=result.markdown)
-        return types.Hover(contents=content, range=positions.range(result.span))
+        return types.Hover(contents=content, range=positions.range(span))
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
     @guarded(list)
-    def on_definition(ls: RdcdServer, params: types.DefinitionParams) -> list[types.Location]:
-        located = _locate(ls, params)
+    async def on_definition(ls: RdcdServer, params: types.DefinitionParams) -> list[types.Location]:
+        located = await _exact(ls, params)
         if located is None:
             return []
-        document, positions, offset = located
+        document, positions, offset, analysis = located
         return [types.Location(uri=document.uri, range=positions.range(span))
-                for span in navigation.definition(document.current(), offset)]
+                for span in navigation.definition(analysis, offset)]
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
     @guarded(list)
-    def on_references(ls: RdcdServer, params: types.ReferenceParams) -> list[types.Location]:
-        located = _locate(ls, params)
+    async def on_references(ls: RdcdServer, params: types.ReferenceParams) -> list[types.Location]:
+        located = await _exact(ls, params)
         if located is None:
             return []
-        document, positions, offset = located
-        spans = navigation.references(document.current(), offset, params.context.include_declaration)
+        document, positions, offset, analysis = located
+        spans = navigation.references(analysis, offset, params.context.include_declaration)
         return [types.Location(uri=document.uri, range=positions.range(span)) for span in spans]
 
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_HIGHLIGHT)
     @guarded(list)
-    def on_highlight(ls: RdcdServer, params: types.DocumentHighlightParams) -> list[types.DocumentHighlight]:
-        located = _locate(ls, params)
+    async def on_highlight(ls: RdcdServer,
+                           params: types.DocumentHighlightParams) -> list[types.DocumentHighlight]:
+        located = await _exact(ls, params)
         if located is None:
             return []
-        document, positions, offset = located
+        _, positions, offset, analysis = located
         kinds = {True: types.DocumentHighlightKind.Write, False: types.DocumentHighlightKind.Read}
         return [types.DocumentHighlight(range=positions.range(span), kind=kinds[is_definition])
-                for span, is_definition in navigation.highlights(document.current(), offset)]
+                for span, is_definition in navigation.highlights(analysis, offset)]
 
     @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
     @guarded()
-    def on_prepare_rename(ls: RdcdServer, params: types.PrepareRenameParams):  # type: ignore[no-untyped-def]
-        located = _locate(ls, params)
+    async def on_prepare_rename(ls: RdcdServer, params: types.PrepareRenameParams):  # type: ignore[no-untyped-def]
+        located = await _exact(ls, params)
         if located is None:
             return None
-        document, positions, offset = located
-        span = rename.prepare_rename(document.current(), offset)
+        document, positions, offset, analysis = located
+        span = rename.prepare_rename(analysis, offset)
         if span is None:
             return None
         text = document.text[span.start:span.end]
@@ -104,13 +128,13 @@ def register(server: RdcdServer) -> None:
 
     @server.feature(types.TEXT_DOCUMENT_RENAME, types.RenameOptions(prepare_provider=True))
     @guarded()
-    def on_rename(ls: RdcdServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
-        located = _locate(ls, params)
+    async def on_rename(ls: RdcdServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
+        located = await _exact(ls, params)
         if located is None:
             return None
-        document, positions, offset = located
+        document, positions, offset, analysis = located
         try:
-            edits = rename.rename(document.current(), offset, params.new_name)
+            edits = rename.rename(analysis, offset, params.new_name)
         except rename.RenameError as error:
             raise RequestFailed(str(error)) from None
         return types.WorkspaceEdit(changes={document.uri: _edits(positions, edits)})
@@ -127,7 +151,8 @@ def register_editing(server: RdcdServer) -> None:
         if located is None:
             return None
         document, positions, offset = located
-        model = document.model_for_completion().model
+        found = document.model_for_completion()  # never waits for a check
+        model = found.model if found is not None else None
         start, items = completion.complete(document.text, offset, model)
         replace = positions.range(Span(start, offset))
         return types.CompletionList(is_incomplete=False, items=[_item(i, replace) for i in items])
@@ -152,12 +177,15 @@ def register_editing(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_CODE_ACTION,
                     types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
     @guarded(list)
-    def on_code_action(ls: RdcdServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+    async def on_code_action(ls: RdcdServer, params: types.CodeActionParams) -> list[types.CodeAction]:
         document = ls.document(params.text_document.uri)
         if document is None:
             return []
+        text = document.text
+        analysis = await ls.analysis_of(document)
+        if analysis is None or document.text is not text:
+            return []
         positions = ls.positions(document)
-        analysis = document.current()
         result = []
         for action in actions.code_actions(analysis, positions.span(params.range)):
             edit = types.WorkspaceEdit(changes={document.uri: _edits(positions, list(action.fix.edits))})

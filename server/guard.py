@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import inspect
 import logging
 from collections.abc import Callable
 from typing import Any
@@ -20,6 +21,19 @@ class RequestFailed(JsonRpcException):
 
 def guarded(default: Any = None) -> Callable:
     def decorate(handler: Callable) -> Callable:
+        if inspect.iscoroutinefunction(handler):  # a handler that awaits the document's check
+            @functools.wraps(handler)
+            async def waiting(ls: Any, params: Any) -> Any:
+                try:
+                    return await handler(ls, params)
+                except JsonRpcException:
+                    raise
+                except Exception:
+                    log.exception("%s failed", handler.__name__)
+                    return default() if callable(default) else default
+
+            return waiting
+
         @functools.wraps(handler)
         def wrapper(ls: Any, params: Any) -> Any:
             try:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 from typing import TYPE_CHECKING
 
 from lsprotocol import types
@@ -63,26 +64,52 @@ def encode_tokens(found: list[tokens.Token], positions: Positions) -> list[int]:
     return data
 
 
+async def _checked(ls: RdcdServer, uri: str):  # type: ignore[no-untyped-def]
+    """(document, analysis) of the text as it is now, waited for without holding up the loop;
+    None for an unknown document or when the text changed meanwhile (the client asks again)."""
+    document = ls.document(uri)
+    if document is None:
+        return None
+    text = document.text
+    analysis = await ls.analysis_of(document)
+    if analysis is None or document.text is not text:
+        return None
+    return document, analysis
+
+
 def register(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     @guarded(list)
-    def on_document_symbol(ls: RdcdServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
-        document = ls.document(params.text_document.uri)
-        if document is None:
+    async def on_document_symbol(ls: RdcdServer,
+                                 params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
+        found = await _checked(ls, params.text_document.uri)
+        if found is None:
             return []
+        document, analysis = found
         positions = ls.positions(document)
-        return [_document_symbol(s, positions) for s in symbols.document_symbols(document.current())]
+        return [_document_symbol(s, positions) for s in symbols.document_symbols(analysis)]
 
     @server.feature(types.WORKSPACE_SYMBOL)
     @guarded(list)
-    def on_workspace_symbol(ls: RdcdServer,
-                            params: types.WorkspaceSymbolParams) -> list[types.SymbolInformation]:
-        documents = {uri: d.current() for uri, d in ls.documents.open.items()}
-        documents.update(workspace_files.closed_documents(ls, set(documents)))
+    async def on_workspace_symbol(ls: RdcdServer,
+                                  params: types.WorkspaceSymbolParams) -> list[types.SymbolInformation]:
+        # open documents: the newest finished analysis (symbols need only the syntax tree)
+        documents = {}
+        for uri, opened in list(ls.documents.open.items()):
+            analysis = opened.analysis or opened.newest or await ls.analysis_of(opened)
+            if analysis is not None:
+                documents[uri] = analysis
+        # the folders' other files: a bounded walk, in a thread so the loop goes on answering
+        closed = await asyncio.get_running_loop().run_in_executor(
+            None, workspace_files.closed_documents, ls, set(ls.documents.open))
+        documents.update(closed)
         result = []
         for uri, symbol, container in symbols.workspace_symbols(documents, params.query):
             opened = ls.documents.get(uri)
-            positions = ls.positions(opened) if opened else Positions(documents[uri].line_index, ls.encoding)
+            if opened is not None and documents[uri].text is opened.text:
+                positions = ls.positions(opened)
+            else:
+                positions = Positions(documents[uri].line_index, ls.encoding)
             location = types.Location(uri=uri, range=positions.range(symbol.selection))
             result.append(types.SymbolInformation(
                 name=symbol.name, kind=SYMBOL_KINDS.get(symbol.kind, types.SymbolKind.Field),
@@ -91,31 +118,35 @@ def register(server: RdcdServer) -> None:
 
     @server.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, LEGEND)
     @guarded(lambda: types.SemanticTokens(data=[]))
-    def on_semantic_tokens(ls: RdcdServer, params: types.SemanticTokensParams) -> types.SemanticTokens:
-        document = ls.document(params.text_document.uri)
-        if document is None:
+    async def on_semantic_tokens(ls: RdcdServer, params: types.SemanticTokensParams) -> types.SemanticTokens:
+        found = await _checked(ls, params.text_document.uri)
+        if found is None:
             return types.SemanticTokens(data=[])
-        found = tokens.semantic_tokens(document.current())
-        return types.SemanticTokens(data=encode_tokens(found, ls.positions(document)))
+        document, analysis = found
+        return types.SemanticTokens(data=encode_tokens(tokens.semantic_tokens(analysis),
+                                                       ls.positions(document)))
 
     @server.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
     @guarded(list)
-    def on_folding(ls: RdcdServer, params: types.FoldingRangeParams) -> list[types.FoldingRange]:
-        document = ls.document(params.text_document.uri)
-        if document is None:
+    async def on_folding(ls: RdcdServer, params: types.FoldingRangeParams) -> list[types.FoldingRange]:
+        found = await _checked(ls, params.text_document.uri)
+        if found is None:
             return []
         kinds = {"comment": types.FoldingRangeKind.Comment, "region": types.FoldingRangeKind.Region}
         return [types.FoldingRange(start_line=f.start_line, end_line=f.end_line, kind=kinds[f.kind])
-                for f in folding.folding_ranges(document.current())]
+                for f in folding.folding_ranges(found[1])]
 
     @server.feature(types.TEXT_DOCUMENT_INLAY_HINT)
     @guarded(list)
-    def on_inlay_hint(ls: RdcdServer, params: types.InlayHintParams) -> list[types.InlayHint]:
-        document = ls.document(params.text_document.uri)
-        if document is None or not ls.settings.fragment_size_hints:
+    async def on_inlay_hint(ls: RdcdServer, params: types.InlayHintParams) -> list[types.InlayHint]:
+        if not ls.settings.fragment_size_hints:
             return []
+        found = await _checked(ls, params.text_document.uri)
+        if found is None:
+            return []
+        document, analysis = found
         positions = ls.positions(document)
         span = positions.span(params.range)
         return [types.InlayHint(position=positions.position(h.offset), label=h.label, tooltip=h.tooltip,
                                 padding_left=True)
-                for h in inlay.fragment_hints(document.current(), span.start, span.end)]
+                for h in inlay.fragment_hints(analysis, span.start, span.end)]

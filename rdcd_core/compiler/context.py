@@ -23,7 +23,10 @@ class Context:
     inlining: list[str] = field(default_factory=list)
     inlined_nesting: int = 0  # tree levels the bodies in ``inlining`` add (stmtgen.nesting)
     command_numbers: dict[str, int] = field(default_factory=dict)
-    cache: dict[tuple[str, int], object] = field(default_factory=dict)  # per-compilation memo
+    cache: dict[tuple, object] = field(default_factory=dict)  # per-compilation memo
+    reported: set[tuple[str, Span]] = field(default_factory=set)  # (code, span) of ``reported_of``
+    reported_of: list | None = None
+    reported_count: int = 0
     target: Target = DEFAULT  # what the code must run on (vm.isa.targets)
     # Local states (bits over geometry.LOCAL_STATES) in which the code being generated may run:
     # a discovery test knows the states its earlier tests let through, a role's code the axes its
@@ -31,8 +34,20 @@ class Context:
     states: int | None = None
 
     def report(self, code: str, span: Span, message: str) -> None:
-        if not any(d.code == code and d.span == span for d in self.diagnostics):
+        """Adds a diagnostic unless ``diagnostics`` already has one with this code and span."""
+        keys = self._reported()
+        if (code, span) not in keys:
+            keys.add((code, span))
             self.diagnostics.append(diag.make(code, span, message))
+        self.reported_count = len(self.diagnostics)
+
+    def _reported(self) -> set[tuple[str, Span]]:
+        """The (code, span) keys of ``diagnostics``, kept in a set so that thousands of reports stay
+        linear; made again when code swapped the list or changed it directly."""
+        if self.reported_of is not self.diagnostics or self.reported_count != len(self.diagnostics):
+            self.reported = {(d.code, d.span) for d in self.diagnostics}
+            self.reported_of = self.diagnostics
+        return self.reported
 
     def scopes(self) -> list[str]:
         return [*reversed(self.mixins), self.role]

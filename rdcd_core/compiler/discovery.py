@@ -16,7 +16,7 @@ from __future__ import annotations
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.entry import EntryItem
 from rdcd_core.compiler.exprgen import cjump, emit
-from rdcd_core.compiler.fold import eval_vector, fold, type_of
+from rdcd_core.compiler.fold import fold, local_shape, type_of, vector_of
 from rdcd_core.compiler.geometry import ALL_STATES, LOCAL_STATES
 from rdcd_core.compiler.ir import Ins, Item, Label, code_size
 from rdcd_core.syntax import ast
@@ -25,13 +25,13 @@ from rdcd_core.types import Type
 
 def state_mask(expr: ast.Node, ctx: Context) -> int | None:
     """Bit i set when ``expr`` holds in local state i; None if it is not a local expression."""
-    key = ("mask", id(expr))
+    shape = local_shape(expr, ctx)
+    if shape is None:
+        return None
+    key = ("mask", shape)  # a large role's invariants repeat a few shapes
     if key not in ctx.cache:
-        values = eval_vector(expr, ctx, LOCAL_STATES)
-        mask = None
-        if values is not None:
-            mask = sum(1 << index for index, value in enumerate(values) if value)
-        ctx.cache[key] = mask
+        values = vector_of(shape, ctx, LOCAL_STATES)
+        ctx.cache[key] = int("".join("1" if value else "0" for value in reversed(values)), 2)
     return ctx.cache[key]  # type: ignore[return-value]
 
 

@@ -15,7 +15,7 @@ from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item, Label
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.compiler.stmtgen import body_of, statement, statements
-from rdcd_core.semantics.model import MethodSymbol, Model
+from rdcd_core.semantics.model import MethodSymbol, Model, RoleSymbol
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import USER_COMMAND_BASE
@@ -34,16 +34,24 @@ def assign_command_numbers(model: Model) -> dict[str, int]:
     """User command k of every command name; a name keeps one k in every role that has it.
     A mixin's commands share the table of the roles it applies to."""
     numbers: dict[str, int] = {}
+    having: dict[str, list[RoleSymbol]] = {}  # method name -> the roles that have it
+    for role in model.roles.values():
+        for name in role.methods:
+            having.setdefault(name, []).append(role)
+    subroles: dict[str, list[str]] = {}
     symbols = sorted(model.roles.values(), key=lambda s: s.is_mixin)
     for symbol in symbols:
         for method in symbol.methods.values():
             if method.kind is not ast.MethodKind.COMMAND or method.name in numbers:
                 continue
-            sharing = [r for r in model.roles.values() if method.name in r.methods]
+            sharing = list(having[method.name])
             if symbol.is_mixin and symbol.modifies:
-                sharing += [model.roles[r] for r in model.subroles(symbol.modifies)]
+                if symbol.modifies not in subroles:
+                    subroles[symbol.modifies] = model.subroles(symbol.modifies)
+                sharing += [model.roles[r] for r in subroles[symbol.modifies]]
             taken = {numbers[m] for r in sharing for m in r.methods if m in numbers}
-            numbers[method.name] = min(k for k in range(64) if k not in taken)
+            # past the table (64) only with more commands than E121 allows; command_limit reports it
+            numbers[method.name] = next((k for k in range(64) if k not in taken), 64)
     return numbers
 
 

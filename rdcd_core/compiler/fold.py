@@ -95,31 +95,66 @@ def _eval_query(expr: ast.Node, ctx: Context, state: tuple[int, int]) -> Value |
 
 
 def eval_vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int] | None:
-    """The value of ``expr`` in every local state (None if it is not local), memoised per node."""
-    key = ("vector", id(expr))
+    """The value of ``expr`` in every local state (None if it is not local).
+
+    Memoised per ``local_shape``: the invariants of a large role repeat a few shapes, and each new
+    vector costs a pass over every state.
+    """
+    shape = local_shape(expr, ctx)
+    return None if shape is None else vector_of(shape, ctx, states)
+
+
+def local_shape(expr: ast.Node, ctx: Context) -> tuple | None:
+    """What ``expr`` computes from the local state, its constants folded for ``ctx.role``: two
+    expressions with equal shapes have equal values in every local state. None if not local."""
+    key = ("shape", id(expr))
     if key not in ctx.cache:
-        ctx.cache[key] = _vector(ast.unparen(expr), ctx, states)
+        ctx.cache[key] = _shape(ast.unparen(expr), ctx)
     return ctx.cache[key]  # type: ignore[return-value]
 
 
-def _vector(expr: ast.Node, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int] | None:
+def _shape(expr: ast.Node, ctx: Context) -> tuple | None:
     folded = fold(expr, ctx)
     if folded is not None:
-        return [folded.value] * len(states)
+        return ("const", folded.value)
+    parts: tuple = ()
     if isinstance(expr, ast.Unary):
-        inner = eval_vector(expr.operand, ctx, states)
-        if inner is None:
-            return None
-        return list(map(UNARY[expr.op].apply, inner))
-    if isinstance(expr, ast.Binary):
-        left, right = eval_vector(expr.left, ctx, states), eval_vector(expr.right, ctx, states)
-        if left is None or right is None:
-            return None
-        return list(map(BINARY[expr.op].apply, left, right))
-    if isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and len(expr.args) == 1:
-        inner = eval_vector(expr.args[0], ctx, states)
-        return None if inner is None else [bin(v & 0xFF).count("1") for v in inner]
-    if isinstance(expr, ast.SelfCall) and expr.name.text in LOCAL_QUERIES:
-        values = [_eval_query(expr, ctx, state) for state in states]
-        return None if any(v is None for v in values) else [v.value for v in values]  # type: ignore[union-attr]
-    return None
+        parts = ("unary", expr.op, local_shape(expr.operand, ctx))
+    elif isinstance(expr, ast.Binary):
+        parts = ("binary", expr.op, local_shape(expr.left, ctx), local_shape(expr.right, ctx))
+    elif isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and len(expr.args) == 1:
+        parts = ("sizeof", local_shape(expr.args[0], ctx))
+    elif isinstance(expr, ast.SelfCall) and expr.name.text in ("center_position", "total_connected"):
+        parts = ("query", expr.name.text)
+    elif isinstance(expr, ast.SelfCall) and expr.name.text == "connected" and len(expr.args) == 1:
+        direction = fold(expr.args[0], ctx)
+        parts = ("query", "connected", direction.value if direction is not None else None)
+    if not parts or None in parts:  # not local, or a part is not
+        return None
+    return parts
+
+
+def vector_of(shape: tuple, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int]:
+    """The value of a local shape in each of ``states``, memoised per compilation."""
+    key = ("vector", shape, id(states))
+    if key not in ctx.cache:
+        ctx.cache[key] = _vector(shape, ctx, states)
+    return ctx.cache[key]  # type: ignore[return-value]
+
+
+def _vector(shape: tuple, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int]:
+    kind = shape[0]
+    if kind == "const":
+        return [shape[1]] * len(states)
+    if kind == "query":
+        if shape[1] == "center_position":
+            return [axis for axis, _ in states]
+        if shape[1] == "total_connected":
+            return [connected for _, connected in states]
+        return [connected & facing(axis, shape[2]) for axis, connected in states]
+    if kind == "sizeof":
+        return [bin(v & 0xFF).count("1") for v in vector_of(shape[1], ctx, states)]
+    if kind == "unary":
+        return list(map(UNARY[shape[1]].apply, vector_of(shape[2], ctx, states)))
+    left, right = vector_of(shape[2], ctx, states), vector_of(shape[3], ctx, states)
+    return list(map(BINARY[shape[1]].apply, left, right))

@@ -26,6 +26,9 @@ class Label:
 @dataclass(eq=False, slots=True)
 class Body:
     code: list[Item] = field(default_factory=list)
+    # set by the peephole optimiser once ``code`` is final; layout then keeps its bytes
+    optimised: bool = False
+    assembled: tuple | None = None
 
 
 @dataclass(slots=True)
@@ -33,16 +36,17 @@ class Ins:
     op: str
     args: tuple = ()
     span: Span | None = None
+    _key: tuple | None = field(default=None, init=False, repr=False, compare=False)
 
     @property
     def size(self) -> int:
         if self.op == "PUSH":
             return 1 if 0 <= self.args[0] <= 127 else 2
-        return BY_NAME[self.op].size
+        return _SIZES[self.op]
 
     @property
     def ends_flow(self) -> bool:
-        return self.op != "PUSH" and BY_NAME[self.op].no_fallthrough
+        return self.op in _ENDS_FLOW
 
     @property
     def target(self) -> Label | None:
@@ -50,9 +54,14 @@ class Ins:
 
     def key(self) -> tuple:
         """Identity of the instruction for comparisons (labels and bodies by identity)."""
-        return (self.op, tuple(id(a) if isinstance(a, (Label, Body)) else a for a in self.args))
+        if self._key is None:  # an instruction is never changed, only replaced
+            self._key = (self.op, tuple(id(a) if isinstance(a, (Label, Body)) else a for a in self.args))
+        return self._key
 
 
+_SIZES = {name: instruction.size for name, instruction in BY_NAME.items()}  # read for every pass
+_ALONE = {name: bytes([instruction.opcode]) for name, instruction in BY_NAME.items()}  # no operands
+_ENDS_FLOW = frozenset(name for name, instruction in BY_NAME.items() if instruction.no_fallthrough)
 Item = Union[Ins, Label]
 JUMPS = {"GOTO", "IF_FALSE_GOTO", "IF_TRUE_GOTO"}
 COND_JUMPS = {"IF_FALSE_GOTO", "IF_TRUE_GOTO"}
@@ -63,11 +72,13 @@ def code_size(code: list[Item]) -> int:
 
 
 def bodies_of(code: list[Item]) -> list[Body]:
-    found: list[Body] = []
+    found: dict[int, Body] = {}  # by identity, in order of first use
     for item in code:
         if isinstance(item, Ins):
-            found.extend(a for a in item.args if isinstance(a, Body) and a not in found)
-    return found
+            for arg in item.args:
+                if isinstance(arg, Body):
+                    found.setdefault(id(arg), arg)
+    return list(found.values())
 
 
 def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]]) -> bytes:
@@ -76,6 +87,8 @@ def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]])
         if 0 <= value <= 127:
             return bytes([PUSH_SMALL_BASE + value])
         return bytes([BY_NAME["PUSHC"].opcode, value & 0xFF])
+    if not ins.args:
+        return _ALONE[ins.op]
     out = [BY_NAME[ins.op].opcode]
     for arg in ins.args:
         if isinstance(arg, Label):

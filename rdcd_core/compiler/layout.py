@@ -33,9 +33,27 @@ def assemble(code: list[Item]) -> tuple[bytes, list[SourceEntry]]:
     return bytes(blob + tail), entries + tail_entries
 
 
+def _assembled(body: Body) -> tuple[bytes, list[SourceEntry]]:
+    if body.assembled is None or not body.optimised:  # final code is laid out once
+        body.assembled = assemble(body.code)
+    return body.assembled
+
+
+def laid_out_size(code: list[Item]) -> int:
+    """``len(assemble(code)[0])`` without making the source entries (the planner's trials)."""
+    placed: set[bytes] = set()
+    total = code_size(code)
+    for body in bodies_of(code):
+        blob = _assembled(body)[0]
+        if blob not in placed:
+            placed.add(blob)
+            total += len(blob)
+    return total
+
+
 def _place(body: Body, base: int, tail: bytearray, entries: list[SourceEntry],
            placed: dict[bytes, int]) -> tuple[int, int]:
-    code, sub_entries = assemble(body.code)
+    code, sub_entries = _assembled(body)
     if code in placed:
         return placed[code], len(code)
     start = base + len(tail)
@@ -43,6 +61,15 @@ def _place(body: Body, base: int, tail: bytearray, entries: list[SourceEntry],
     tail += code
     entries.extend(SourceEntry(start + e.offset, e.size, e.span) for e in sub_entries)
     return start, len(code)
+
+
+def size_bound(code: list[Item]) -> int:
+    """At least the size of ``code`` once optimised and laid out: no peephole pass makes code
+    larger and layout only shares bodies. Lets the planner settle most trials without optimising."""
+    total = code_size(code)
+    for body in bodies_of(code):
+        total += len(body.assembled[0]) if body.optimised and body.assembled else size_bound(body.code)
+    return total
 
 
 def fragment_size(code: list[Item]) -> int:

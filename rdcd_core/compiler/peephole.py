@@ -15,42 +15,87 @@ PURE_PUSH = {"PUSH", "COORD_X", "COORD_Y", "COORD_Z", "CONNECTED", "CONNECTED_SI
              "CENTER_POSITION_EW", "CENTER_POSITION_NS", "CENTER_POSITION_UD", *ROLE_DIRECTION_OPS.values()}
 COORD_OPS = {"COORD_X": "X", "COORD_Y": "Y", "COORD_Z": "Z"}
 MIRROR_CMP = {"GREATER": "LESSER", "LESSER": "GREATER"}
+FUSED_LAST = {*COND_JUMPS, "SIZEOF", "EQUALS", *MIRROR_CMP}  # the last instruction of every pattern
+
+
+MAX_ROUNDS = 50
 
 
 def optimise(code: list[Item]) -> list[Item]:
+    """The code after the passes have run to a fixed point (at most MAX_ROUNDS rounds).
+
+    Each body is optimised once and marked: the planner measures the same bodies in many trial
+    fragments, and optimising one again would change nothing. (A body with thousands of shared
+    tails may use up its rounds; they are a budget per body, so the result does not depend on how
+    often the planner measured it.)
+    """
     for body in bodies_of(code):
-        body.code[:] = optimise(body.code)
-    for _ in range(50):
-        before = [item.key() if isinstance(item, Ins) else id(item) for item in code]
+        if not body.optimised:
+            body.code[:] = optimise(body.code)
+            body.optimised = True
+    before = _keys(code)
+    for _ in range(MAX_ROUNDS):
         code = _fuse(code)
         code = _drop_dead(code)
         code = _skip_over_goto(code)
         code = _thread(code)
         code = merge_tails(code)
-        if before == [item.key() if isinstance(item, Ins) else id(item) for item in code]:
+        after = _keys(code)
+        if before == after:
             break
+        before = after
     return code
+
+
+def _keys(code: list[Item]) -> list[object]:
+    return [item.key() if isinstance(item, Ins) else id(item) for item in code]
 
 
 def _referenced(code: list[Item]) -> set[int]:
     return {id(item.args[0]) for item in code if isinstance(item, Ins) and item.op in JUMPS}
 
 
-def _first_ins(code: list[Item], label: Label) -> int | None:
-    start = next(i for i, item in enumerate(code) if item is label)
-    for index in range(start, len(code)):
-        if isinstance(code[index], Ins):
-            return index
-    return None
+def _falls_to(code: list[Item], index: int, label: Label) -> bool:
+    """Only labels stand between the instruction at ``index`` and ``label``. (Scans the labels
+    right after ``index`` only: each run of labels follows one instruction, so a pass that asks
+    this for each of its instructions stays linear. Slicing the rest of the code made it quadratic.)"""
+    for position in range(index + 1, len(code)):
+        item = code[position]
+        if item is label:
+            return True
+        if isinstance(item, Ins):
+            return False
+    return False
+
+
+class _Targets:
+    """The first instruction at or after each label, in a code list whose instructions may be
+    replaced but not moved (searching the whole code for each jump made threading quadratic)."""
+
+    def __init__(self, code: list[Item]) -> None:
+        self.code = code
+        self.label_at: dict[int, int] = {}  # id(label) -> its first position
+        for index, item in enumerate(code):
+            if isinstance(item, Label):
+                self.label_at.setdefault(id(item), index)
+        self.found: dict[int, int | None] = {}
+
+    def first_ins(self, label: Label) -> int | None:
+        if id(label) not in self.found:
+            start = self.label_at.get(id(label), len(self.code))
+            self.found[id(label)] = next(
+                (i for i in range(start, len(self.code)) if isinstance(self.code[i], Ins)), None)
+        return self.found[id(label)]
 
 
 def _thread(code: list[Item]) -> list[Item]:
     code = list(code)
+    targets = _Targets(code)
     for index, item in enumerate(code):
         if not isinstance(item, Ins) or item.op not in JUMPS:
             continue
         for _ in range(8):
-            dest_index = _first_ins(code, item.args[0])
+            dest_index = targets.first_ins(item.args[0])
             if dest_index is None:
                 break
             dest = code[dest_index]
@@ -80,21 +125,8 @@ def _drop_dead(code: list[Item]) -> list[Item]:
             result.append(item)
             dead = item.ends_flow
     # a GOTO to the very next instruction
-    cleaned: list[Item] = []
-    for index, item in enumerate(result):
-        if isinstance(item, Ins) and item.op == "GOTO" and _falls_to(result, index, item.args[0]):
-            continue
-        cleaned.append(item)
-    return cleaned
-
-
-def _falls_to(code: list[Item], index: int, label: Label) -> bool:
-    for item in code[index + 1:]:
-        if item is label:
-            return True
-        if isinstance(item, Ins):
-            return False
-    return False
+    return [item for index, item in enumerate(result)
+            if not (isinstance(item, Ins) and item.op == "GOTO" and _falls_to(result, index, item.args[0]))]
 
 
 def _skip_over_goto(code: list[Item]) -> list[Item]:
@@ -113,15 +145,18 @@ def _fuse(code: list[Item]) -> list[Item]:
     result: list[Item] = []
     for item in code:
         result.append(item)
-        _fuse_tail(result)
+        if isinstance(item, Ins) and item.op in FUSED_LAST:
+            _fuse_tail(result)
     return result
 
 
 def _fuse_tail(out: list[Item]) -> None:
     """Rewrites the last two or three instructions of ``out`` when a pattern matches."""
-    if len(out) < 2 or not all(isinstance(i, Ins) for i in out[-2:]):
+    if len(out) < 2:
         return
     a, b = out[-2], out[-1]
+    if not (isinstance(a, Ins) and isinstance(b, Ins)):
+        return
     span = a.span or b.span
     if a.op == "EQUALS_0" and b.op in COND_JUMPS:
         out[-2:] = [Ins(FLIP[b.op], b.args, b.span)]

@@ -17,7 +17,7 @@ from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import common_prefix, continuation_code, group_code
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
 from rdcd_core.compiler.ir import Item
-from rdcd_core.compiler.layout import assemble
+from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
 from rdcd_core.compiler.peephole import optimise
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
 from rdcd_core.source import Span
@@ -30,17 +30,25 @@ class Planner:
     budget: int  # program bytes
     fragments: list[Fragment] = field(default_factory=list)
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
+    names: set[str] = field(default_factory=set)  # of the fragments
+    suffixes: dict[str, int] = field(default_factory=dict)  # name -> the last suffix taken
 
     def size(self, code: list[Item]) -> int:
-        return len(assemble(optimise(code))[0])
+        return laid_out_size(optimise(code))
+
+    def fits(self, code: list[Item]) -> bool:
+        """``size(code) <= budget``; the bound decides most trials without optimising."""
+        return size_bound(code) <= self.budget or self.size(code) <= self.budget
 
     def add(self, name: str, kind: str, roles: list[str], code: list[Item], span: Span,
             methods: list[str]) -> None:
         blob, entries = assemble(optimise(code))
-        names = {f.name for f in self.fragments}
-        unique, n = name, 2
-        while unique in names:
-            unique, n = f"{name}_{n}", n + 1
+        unique, n = name, self.suffixes.get(name, 1)
+        while unique in self.names:  # resumes where the last fragment of this name stopped
+            n += 1
+            unique = f"{name}_{n}"
+        self.suffixes[name] = n
+        self.names.add(unique)
         role = roles[0] if len(roles) == 1 else None
         self.fragments.append(Fragment(unique, kind, role, blob, entries, span, roles=list(roles),
                                        methods=list(dict.fromkeys(methods))))
@@ -79,7 +87,7 @@ def can_group(planner: Planner, group: list[str]) -> bool:
     if any(depends_on(ctx, group) for ctx in ctxs):
         return False
     common = common_prefix(ctxs)
-    return common > 0 and planner.size(group_code(ctxs, {}, common)) <= planner.budget
+    return common > 0 and planner.fits(group_code(ctxs, {}, common))
 
 
 def form_groups(planner: Planner, deployment: list[str]) -> list[list[str]]:
@@ -98,14 +106,15 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     placed: dict[str, list[EntryItem]] = {r: [] for r in group}
     rest: dict[str, list[EntryItem]] = {}
     for role in group:
-        pending = list(items[role])
-        while pending:
-            placed[role].append(pending[0])
-            if planner.size(group_code(ctxs, placed, common)) > planner.budget:
+        pending = items[role]
+        taken = 0
+        while taken < len(pending):
+            placed[role].append(pending[taken])
+            if not planner.fits(group_code(ctxs, placed, common)):
                 placed[role].pop()
                 break
-            pending.pop(0)
-        rest[role] = pending
+            taken += 1
+        rest[role] = pending[taken:]
     model = ctxs[0].model
     span = model.roles[group[0]].decl.name.span
     methods = [item.method for role in group for item in placed[role]]
@@ -124,7 +133,8 @@ def _chunk_code(planner: Planner, chunk: Chunk) -> list[Item]:
 def _pack(planner: Planner, rest: dict[str, list[EntryItem]]) -> list[Chunk]:
     """First fit, roles with most code first; a role's items stay in injection order."""
     chunks: list[Chunk] = []
-    for role in sorted(rest, key=lambda r: -sum(planner.size(i.code) for i in rest[r])):
+    order = sorted(rest, key=lambda r: -sum(planner.size(i.code) for i in rest[r])) if len(rest) > 1 else rest
+    for role in order:
         first = 0
         for item in rest[role]:
             for index in range(first, len(chunks) + 1):
@@ -132,7 +142,7 @@ def _pack(planner: Planner, rest: dict[str, list[EntryItem]]) -> list[Chunk]:
                     chunks.append({role: [item]})
                     break
                 trial = {**chunks[index], role: chunks[index].get(role, []) + [item]}
-                if planner.size(_chunk_code(planner, trial)) <= planner.budget:
+                if planner.fits(_chunk_code(planner, trial)):
                     chunks[index] = trial
                     break
             first = index
@@ -170,8 +180,8 @@ def split_items(planner: Planner, ctx: Context, items: list[EntryItem]) -> list[
     """Startup statements too large for a fragment of their own, split where that is sound."""
     result: list[EntryItem] = []
     for item in items:
-        alone = planner.size(continuation_code([(ctx, [item])]))
-        parts = split_statement(item.stmt) if alone > planner.budget else []
+        alone_fits = planner.fits(continuation_code([(ctx, [item])]))
+        parts = [] if alone_fits else split_statement(item.stmt)
         if not parts:
             result.append(item)
             continue

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.fastinit import fast_init
 from rdcd_core.source import Span
 from vm.isa.opcodes import SLOT_BYTES
 
@@ -13,6 +14,7 @@ DEFAULT_PACKET_BUDGET = 50
 MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (dcd-vm.md §1)
 
 
+@fast_init  # one per instruction of every fragment: made in bulk
 @dataclass(frozen=True, slots=True)
 class SourceEntry:
     """The instruction at ``offset`` (``size`` bytes) came from ``span`` (line: 1-based or 0)."""

@@ -9,16 +9,42 @@ GOTO_SIZE = 2
 
 
 def merge_tails(code: list[Item]) -> list[Item]:
+    """Merges one pair: the latest end that has an earlier twin, with the earliest such twin.
+
+    Two ends share a tail worth a GOTO exactly when their shortest runs of more than GOTO_SIZE
+    bytes are identical (``_signature``) and do not overlap, so the pair is found with a table of
+    first occurrences instead of comparing every pair of ends (quadratic in the number of ends).
+    """
     ends = [i for i, item in enumerate(code) if isinstance(item, Ins) and item.ends_flow]
-    for later in reversed(ends):
-        for earlier in ends:
-            if earlier >= later:
-                break
-            length = _common_run(code, earlier, later)
-            saved = sum(code[later - k].size for k in range(length))
-            if length and saved > GOTO_SIZE:
-                return _replace(code, earlier, later, length)
+    signatures = [_signature(code, end) for end in ends]
+    first: dict[tuple, int] = {}
+    for end, signature in zip(ends, signatures, strict=True):
+        if signature is not None:
+            first.setdefault(signature, end)
+    for later, signature in zip(reversed(ends), reversed(signatures), strict=True):
+        if signature is None:
+            continue
+        earlier = first[signature]
+        # the runs may not overlap: the later one starts after the earlier one ends
+        if later - earlier >= len(signature):
+            return _replace(code, earlier, later, _common_run(code, earlier, later))
     return code
+
+
+def _signature(code: list[Item], end: int) -> tuple | None:
+    """Keys of the fewest instructions ending at ``end`` (no label between them) that are more
+    than GOTO_SIZE bytes; None when a label or the start comes first. A run that ends at ``end``
+    saves more than a GOTO exactly when it holds these instructions."""
+    keys: list[tuple] = []
+    size = 0
+    index = end
+    while size <= GOTO_SIZE:
+        if index < 0 or not isinstance(code[index], Ins):
+            return None
+        keys.append(code[index].key())
+        size += code[index].size
+        index -= 1
+    return tuple(keys)
 
 
 def _common_run(code: list[Item], a: int, b: int) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rdcd_core.ide.analysis import Analysis
-from rdcd_core.ide.fragments import FragmentSize, sizes_of_method, sizes_of_role
+from rdcd_core.ide.fragments import FragmentSize, sizes_for_method, sizes_for_role
 from rdcd_core.syntax import ast
 
 
@@ -37,15 +37,14 @@ def fragment_hints(analysis: Analysis, start: int = 0, end: int | None = None) -
     for role in program.roles:
         if role.span.end < start or role.span.start > end or model.role_of(role) is None:
             continue
-        roles = model.concrete_subroles(role.name.text) or [role.name.text]
-        own = sizes_of_role(analysis, roles)
+        own = sizes_for_role(analysis, role.name.text)
         if own and start <= role.header_span.end <= end:
             text, tooltip, over = label(own, budget)
             hints.append(InlayHint(role.header_span.end, text, tooltip, over))
         for member in role.members:
             if not isinstance(member, ast.MethodDecl) or not start <= member.span.start <= end:
                 continue
-            found = sizes_of_method(analysis, roles, member.name.text)
+            found = sizes_for_method(analysis, role.name.text, member.name.text)
             if found:
                 text, tooltip, over = label(found, budget)
                 close = analysis.text.find(")", member.name.span.end, member.span.end)
