@@ -45,7 +45,6 @@ from vm.isa.opcodes import (
     USER_COMMAND_NUMBERS,
 )
 from vm.isa.targets import DEFAULT, Target
-from vm.observer import RuntimeObserver
 from vm.packets import NOTIFY
 from vm.roles import RoleTable
 from vm.runtime_node import MAX_LOG, ModuleNode
@@ -151,20 +150,14 @@ class ModuleRuntime(ModuleNode):
                     self.programs_run += 1
             if self.observer is None:
                 self._finish(task, run(task.frame, self, self.target))
-            else:
-                self._observed_run(task, self.observer)
-
-    def _observed_run(self, task: Task, observer: RuntimeObserver) -> None:
-        """A run as above, telling ``observer``; the running frame is kept for the calls it makes."""
-        frame = task.frame
-        assert frame is not None
-        self._running = frame
-        try:
-            result = run(frame, self, self.target)
-        finally:
-            self._running = None
-        observer.run_finished(self, task, result)
-        self._finish(task, result)
+                continue
+            self._running = task.frame  # observed: where the calls the program makes come from
+            try:
+                result = run(task.frame, self, self.target)
+            finally:
+                self._running = None
+            self.observer.run_finished(self, task, result)
+            self._finish(task, result)
 
     def _due(self, task: Task, now: float) -> bool:
         if task.wake_time is not None:

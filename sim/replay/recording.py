@@ -14,7 +14,6 @@ two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.en
 from __future__ import annotations
 
 import math
-import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -191,7 +190,7 @@ class _Watcher(RuntimeObserver):
 
     def __init__(self, recording: Recording, mid: int, clock: Callable[[], float]) -> None:
         self.rec, self.mid, self.clock = recording, mid, clock
-        self.ran: weakref.WeakSet[Any] = weakref.WeakSet()  # slots whose first run is recorded
+        self.ran: set[Any] = set()  # slots whose first run is recorded (freed ones are dropped)
         self.failed: tuple[tuple[int, int] | None, int] | None = None  # where the run reporting an error is
 
     def program_stored(self, runtime: Any, slot: Any) -> None:
@@ -207,6 +206,8 @@ class _Watcher(RuntimeObserver):
             if outcome is HALT:
                 self.failed = (None, -1)
             return
+        if len(self.ran) >= 64:  # a freed slot never runs again: forget those
+            self.ran.intersection_update(runtime.store.slots)
         self.ran.add(task.slot)
         where = self.rec._run_finished(self.clock(), self.mid, task, result)
         if outcome is ERROR or outcome is HALT:
