@@ -39,6 +39,9 @@ class Frame:
     pc: int = 0
     stack: list[int] = field(default_factory=list)
     debug: bool = False
+    # offset of the instruction that is asking the module something now (``vm.observer``): set
+    # by the few instructions that call the module with an effect, so the dispatch loop pays nothing
+    at: int = 0
 
 
 @dataclass(frozen=True)
@@ -174,6 +177,7 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     at = frame.pc
     name, op, a = _fetch(frame, target)
     if frame.debug:
+        frame.at = at
         m.trace(frame, f"{at}: {name} {list(a)} stack={frame.stack}")
     if name == "PUSH":
         _push(frame, op - PUSH_SMALL_BASE, target)
@@ -197,6 +201,7 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "GOTO":
         frame.pc = a[0]
     elif name == "SET_ROLE_NOTIFY":
+        frame.at = at
         m.set_role_notify(a[0])
     elif name in _COORDS:
         _push(frame, m.coords()[_COORDS[name]], target)
@@ -213,12 +218,15 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "HANDLE_EVENT":
         if a[0] > 7:
             raise VMError(f"bad event {a[0]}")
+        frame.at = at
         m.handle_event(a[0], _embedded(frame, a[1], a[2]))
     elif name == "SEND_COMMAND":
+        frame.at = at
         m.send_command(a[0], a[1], signed_byte(a[2]))
     elif name == "CLEAR_EVENT":
         m.clear_event(a[0])
     elif name == "EVAL_COMMAND":
+        frame.at = at
         m.eval_command(a[0], signed_byte(a[1]))
     elif name == "HAS_ROLE":
         _push(frame, int(m.has_role(a[0])), target)
@@ -227,6 +235,7 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name in _ROLE_DIRS:
         _push(frame, int(m.connected_role(_ROLE_DIRS[name], a[0]) != 0), target)
     elif name == "INSTALL_COMMAND":
+        frame.at = at
         m.install_command(a[0], a[1], _embedded(frame, a[2], a[3]))
     elif name == "SLEEP":
         return Result(Outcome.SLEEP)
@@ -245,6 +254,7 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "APPLY":
         f = _pop(frame)
         arg = _pop(frame)
+        frame.at = at
         if f == 64 and target.quirks.apply_64_broadcasts:
             m.send_command(ANY_ROLE, arg & 0xFF, 0)  # the firmware's broadcast: command a, every role
         else:
@@ -257,8 +267,10 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "SET_LED":
         m.set_led(signed_byte(a[0]))
     elif name == "SEND_COMMAND_STACK_ARG":
+        frame.at = at
         m.send_command(a[0], a[1], _pop(frame))
     elif name == "EVAL_COMMAND_STACK_ARG":
+        frame.at = at
         m.eval_command(a[0], _pop(frame))
     # NOP: nothing
     return None

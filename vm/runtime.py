@@ -5,7 +5,8 @@ A world creates ``ModuleRuntime(hal, role_table, module_id=...)`` per module, ca
 ``inject(fragment)``. Observable: ``role``, ``position``, ``axis``, ``mapping`` (virtual→physical),
 ``errors`` [(t, message)], ``run_errors`` (the errors of program runs with the code and pc),
 ``halted``, ``role_history`` [(t, role)], ``event_log`` [(t, kind, detail)] and
-the optional hook ``on_event(kind, detail)``; kinds: "role", "handler" (an event handler fired: a
+the optional hook ``on_event(kind, detail)`` (for the story of a run with code locations, attach a
+``vm.observer.RuntimeObserver`` as ``observer`` instead); kinds: "role", "handler" (an event handler fired: a
 detection), "command" (a command executed here), "program" (a program stored and queued),
 "error", "trace" (ACTIVATE_DEBUG).
 
@@ -123,6 +124,8 @@ class ModuleRuntime(ModuleNode):
                 continue
             if vec.armed:  # a detection: logged once, re-runs of the same detection are counted
                 self._log("handler", {"event": k})
+                if self.observer is not None:
+                    self.observer.handler_fired(self, k, vec.slot)
             else:
                 self.handler_refires += 1
             vec.armed = False
@@ -145,7 +148,16 @@ class ModuleRuntime(ModuleNode):
                 if task.slot.kind == PROGRAM_SLOT and not task.slot.started:
                     task.slot.started = True
                     self.programs_run += 1
-            self._finish(task, run(task.frame, self, self.target))
+            if self.observer is None:
+                self._finish(task, run(task.frame, self, self.target))
+                continue
+            self._running = task.frame  # observed: where the calls the program makes come from
+            try:
+                result = run(task.frame, self, self.target)
+            finally:
+                self._running = None
+            self.observer.run_finished(self, task, result)
+            self._finish(task, result)
 
     def _due(self, task: Task, now: float) -> bool:
         if task.wake_time is not None:
@@ -180,14 +192,16 @@ class ModuleRuntime(ModuleNode):
         if halted:
             message += "; module halted"
             self.halted = True
-        self.run_errors.append(RunError(self.hal.now(), message, task.slot.code if task.slot else b"",
-                                        result.pc, halted))
+        code = task.slot.code if task.slot else b""
+        self.run_errors.append(RunError(self.hal.now(), message, code, result.pc, halted))
         del self.run_errors[:-MAX_LOG]
-        self._error(message)
+        self._error(message, code, result.pc)
 
     def _run_command(self, command: int, arg: int) -> None:
         """Execute a command here: built-ins drive the joint, user commands queue their program."""
         self._log("command", {"command": command, "arg": arg})
+        if self.observer is not None:
+            self.observer.command_executed(self, command, arg, *self._where())
         hal = self.hal
         if command == ROTATE_CW:
             hal.rotate_continuously(abs(arg) or 1)
@@ -242,6 +256,8 @@ class ModuleRuntime(ModuleNode):
             self.role = role
             self.role_history.append((self.hal.now(), role))
             self._log("role", {"role": role, "name": self.roles.name(role)})
+            if self.observer is not None:
+                self.observer.role_set(self, role, *self._where())
         self._notify_id = (self._notify_id + 1) & 0xFF
         self._send_all(NOTIFY, self._notify_id, bytes((role & 0xFF,)), exclude=None)
 
@@ -252,6 +268,8 @@ class ModuleRuntime(ModuleNode):
             self._error(f"HANDLE_EVENT {event}: {e}")
             return
         self.store.set_vector(event, slot)
+        if self.observer is not None:
+            self.observer.handler_installed(self, event, slot, *self._where())
 
     def clear_event(self, event: int) -> None:
         if 0 <= event < 8:
@@ -267,6 +285,8 @@ class ModuleRuntime(ModuleNode):
             vec.enabled = enabled
 
     def send_command(self, role: int, command: int, arg: int) -> None:
+        if self.observer is not None:
+            self.observer.command_sent(self, role, command, arg, *self._where())
         ident = self._local_id()
         self._seen_commands[(ident, role, command, arg & 0xFF)] = self.hal.now()
         self._flood_command(ident, role, command, arg, exclude=None)
@@ -296,6 +316,8 @@ class ModuleRuntime(ModuleNode):
             return
         for r in targets:
             self.store.set_command(r, k, slot)
+        if self.observer is not None:
+            self.observer.command_installed(self, role, command, slot, *self._where())
 
     def clear_command_queue(self, command: int) -> None:
         self.store.tasks = [t for t in self.store.tasks if not (t.command == command and t.frame is None)]
@@ -306,3 +328,5 @@ class ModuleRuntime(ModuleNode):
 
     def trace(self, frame: Frame, text: str) -> None:
         self._log("trace", {"text": text})
+        if self.observer is not None:
+            self.observer.traced(self, text, frame.code, frame.at)

@@ -32,8 +32,10 @@ from collections.abc import Callable
 
 from vm import navigation as nav
 from vm.hal import ModuleHal
+from vm.interpreter import Frame
 from vm.isa.targets import DEFAULT, Target
 from vm.isa.verifier import verify
+from vm.observer import RuntimeObserver
 from vm.packets import (
     COMMAND,
     PROGRAM,
@@ -76,6 +78,8 @@ class ModuleNode:
         self.errors: list[tuple[float, str]] = []
         self.event_log: list[tuple[float, str, dict[str, object]]] = []
         self.on_event: EventHook | None = None
+        self.observer: RuntimeObserver | None = None  # vm.observer: off by default
+        self._running: Frame | None = None  # the frame of the run in progress, kept only when observed
         self.neighbour_roles = [0] * 8  # by virtual channel
         self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
         self.link = Link(hal, self.rng, checksum=checksum, acknowledged=not target.quirks.no_acknowledgements)
@@ -173,6 +177,8 @@ class ModuleNode:
             return False
         self._seen_programs.add(key)
         self._log("program", {"id": ident, "size": len(code)})
+        if self.observer is not None:
+            self.observer.program_stored(self, slot)
         return True
 
     def _accept_command(self, p: CommandPacket, ch: int) -> None:
@@ -234,10 +240,20 @@ class ModuleNode:
         if self._seen_commands:
             self._seen_commands = {k: t for k, t in self._seen_commands.items() if now - t < COMMAND_MEMORY}
 
-    def _error(self, message: str) -> None:
+    def _error(self, message: str, code: bytes | None = None, pc: int | None = None) -> None:
+        """``code``, ``pc``: where a run failed, for the observer (default: the instruction running)."""
         self.errors.append((self.hal.now(), message))
         del self.errors[:-MAX_LOG]
         self._log("error", {"message": message})
+        if self.observer is not None:
+            if code is None:
+                code, pc = self._where()
+            self.observer.error(self, message, code, pc)
+
+    def _where(self) -> tuple[bytes | None, int | None]:
+        """The code running now and the offset of the instruction calling the module (observed runs)."""
+        frame = self._running
+        return (frame.code, frame.at) if frame is not None else (None, None)
 
     def _error_once(self, key: object, message: str) -> None:
         if key not in self._reported:

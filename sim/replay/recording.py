@@ -1,13 +1,11 @@
 """The recording of a run, for the replay page: poses, roles, VM events, packets, detections.
 
 A ``Recording`` is handed to ``sim.run.simulate``; it watches the world from outside, through
-hooks that already exist or are off by default (DESIGN.md rule 4: the VM sees nothing new):
-each runtime's ``on_event`` (chained after the report's own recorder), the network's ``on_send``,
-the physics world's ``on_detection``, and the run loop, which it splits into sample intervals
-(``advance`` of both worlds is whole physics steps / VM ticks, so splitting changes nothing).
-Runs are seen by wrapping each runtime's ``_finish`` on the instance (the scheduler calls it
-after every run with the task and its outcome): that gives the fragment and the pc; commands a
-program sends, by wrapping its ``send_command`` (what the interpreter calls) the same way.
+hooks that are off by default (DESIGN.md rule 4: the VM sees nothing new): each runtime's
+``observer`` (``vm.observer``: fragments stored and run with their code and pc, roles, handlers,
+commands, errors), the network's ``on_send``, the physics world's ``on_detection``, and the run
+loop, which it splits into sample intervals (``advance`` of both worlds is whole physics steps /
+VM ticks, so splitting changes nothing).
 
 Poses: per sample and module, the centre (mm) and the rotation since the start of each of its
 two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``).
@@ -16,18 +14,19 @@ two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.en
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 from sim.replay.sources import SourceIndex
 from vm.interpreter import Outcome
+from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE
 from vm.lattice.structure import Structure
+from vm.observer import RuntimeObserver
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
 from vm.roles import ANY_ROLE
 
-ERROR = Outcome.ERROR
+ERROR, HALT = Outcome.ERROR, Outcome.HALT
 
 SAMPLE_HZ = 10.0
 MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate is lowered
@@ -55,7 +54,6 @@ class Recording:
     _sample: Callable[[], list[int]] | None = None
     _last_command: dict = field(default_factory=dict)
     _origins: dict = field(default_factory=dict)  # (module, body bytes) -> fragment it was stored from
-    _context: tuple[tuple[int, int] | None, int] | None = None
 
     def __post_init__(self) -> None:
         n = max(1, len(self.structure.modules))
@@ -118,54 +116,9 @@ class Recording:
     def _attach_runtimes(self, runtimes: dict, clock: Callable[[], float]) -> None:
         self.runtimes = runtimes
         for mid, runtime in runtimes.items():
-            previous = runtime.on_event
-
-            def on_event(kind: str, detail: dict, mid: int = mid, runtime: Any = runtime,
-                         previous: Any = previous) -> None:
-                if previous is not None:
-                    previous(kind, detail)
-                if kind == "command":  # behaviours repeat the same command every tick: keep the changes
-                    key = (detail.get("command"), detail.get("arg"))
-                    if self._last_command.get(mid) == key:
-                        return
-                    self._last_command[mid] = key
-                self._vm_event(clock(), mid, runtime, kind, detail)
-            runtime.on_event = on_event
-            send = getattr(runtime, "send_command", None)
-            if send is not None:  # what a program calls to send a command (vm.interpreter.Machine)
-                def send_command(role: int, command: int, arg: int, mid: int = mid, runtime: Any = runtime,
-                                 send: Any = send) -> None:
-                    where, line = self._running_pc(mid)
-                    name = "any role" if role == ANY_ROLE else runtime.roles.name(role)
-                    self._event(clock(), mid, "send", where, line,
-                                f"sent {_command_name(command)} ({arg}) to {name}")
-                    send(role, command, arg)
-                runtime.send_command = send_command
-            for name in ("handle_event", "install_command"):  # Machine methods storing a body
-                method = getattr(runtime, name, None)
-                if method is not None:
-                    def install(*args: Any, mid: int = mid, method: Any = method) -> None:
-                        self._installed(mid, args[-1])
-                        method(*args)
-                    setattr(runtime, name, install)
-            finish = getattr(runtime, "_finish", None)
-            if finish is None:  # a runtime without the scheduler's finish step: no run events
-                continue
-
-            def finished(task: Any, result: Any, mid: int = mid, finish: Any = finish,
-                         ran: set[int] = set()) -> None:  # noqa: B006 - one set per module, on purpose
-                slot = task.slot
-                # fast path: repeating behaviours run every tick; their first run is the story
-                if slot is None or task.frame is None or (id(slot) in ran and result.outcome is not ERROR):
-                    finish(task, result)
-                    return
-                ran.add(id(slot))
-                self._context = self._run_finished(clock(), mid, task, result)
-                try:
-                    finish(task, result)  # an error it reports is located at the run's pc
-                finally:
-                    self._context = None
-            runtime._finish = finished
+            if getattr(runtime, "observer", None) is not None:
+                raise ValueError(f"module {mid} is already observed")
+            runtime.observer = _Watcher(self, mid, clock)
 
     def _attach_network(self, network: Any) -> None:
         def on_send(now: float, source: int, target: int, physical: int, packet: bytes,
@@ -185,52 +138,21 @@ class Recording:
         fragment, pc = where if where else (-1, -1)
         self.events.append([round(t, 3), mid, kind, fragment, pc, line, text])
 
-    def _vm_event(self, t: float, mid: int, runtime: Any, kind: str, detail: dict) -> None:
-        where, line = None, -1
-        if kind == "handler":
-            k = int(detail.get("event", -1))
-            vec = runtime.store.vectors[k] if 0 <= k < len(runtime.store.vectors) else None
-            if vec is not None:
-                where, line = self._locate(mid, vec.slot.code, 0)
-            text = f"handler of event {k} fired"
-        elif kind == "role":
-            where, line = self._running_pc(mid)
-            text = f"role set to {detail.get('name')}"
-        elif kind == "program":
-            slot = next((s for s in reversed(runtime.store.slots) if s.ident == detail.get("id")), None)
-            if slot is not None:
-                where, line = self._locate(mid, slot.code, 0)
-            name = self.sources.fragment_name(where)
-            text = f"fragment {name} received and stored ({detail.get('size')} bytes)"
-        elif kind == "command":
-            where, line = self._running_pc(mid)
-            text = f"command {_command_name(detail.get('command'))} ({detail.get('arg')}) executed"
-        elif kind == "error":
-            where, line = self._running_pc(mid)
-            text = f"error: {detail.get('message')}"
-        elif kind == "trace":
-            where, line = self._running_pc(mid)
-            text = f"trace: {detail.get('text')}"
-        else:
-            text = f"{kind}: {detail}"
-        self._event(t, mid, kind, where, line, text)
-
-    def _running_pc(self, mid: int) -> tuple[tuple[int, int] | None, int]:
-        """The fragment and pc of the program running now on module ``mid``, if any."""
-        if self._context is not None:
-            return self._context
-        frame = _running_frame()
-        return self._locate(mid, frame.code, max(0, frame.pc - 1)) if frame else (None, -1)
-
     def _locate(self, mid: int, code: bytes, pc: int) -> tuple[tuple[int, int] | None, int]:
         return self.sources.locate(code, pc, self._origins.get((mid, bytes(code))))
 
-    def _installed(self, mid: int, code: bytes) -> None:
-        """A handler or command body stored by the program running now: remember its fragment."""
-        frame = _running_frame()
-        where = self._locate(mid, frame.code, 0)[0] if frame else None
+    def _at(self, mid: int, code: bytes | None, pc: int | None) -> tuple[tuple[int, int] | None, int]:
+        """Where the instruction at ``pc`` of the running ``code`` is (nothing runs: nowhere). An event
+        is placed on the last byte of its instruction, as recordings always have: the same line."""
+        if code is None or pc is None:
+            return None, -1
+        return self._locate(mid, code, pc + _size(code, pc) - 1)
+
+    def _installed(self, mid: int, body: bytes, code: bytes | None) -> None:
+        """A handler or command body stored by the running ``code``: remember its fragment."""
+        where = self._locate(mid, code, 0)[0] if code is not None else None
         if where is not None:
-            self._origins[(mid, bytes(code))] = where[0]
+            self._origins[(mid, bytes(body))] = where[0]
 
     def _run_finished(self, t: float, mid: int, task: Any, result: Any) -> tuple[Any, int]:
         """A run event for the first run of a slot on a module, or a run that ended in an error."""
@@ -263,20 +185,85 @@ class Recording:
         return notes
 
 
-def _running_frame() -> Any:
-    """The interpreter's frame of the program running now (rare events only: role changes,
-    commands, installs, errors), found on the Python stack; None outside a run."""
-    from vm.interpreter import Frame
+class _Watcher(RuntimeObserver):
+    """What one module's runtime tells the recording (vm.observer)."""
 
-    f = sys._getframe(2)
-    for _ in range(12):
-        if f is None:
-            break
-        frame = f.f_locals.get("frame")
-        if isinstance(frame, Frame):
-            return frame
-        f = f.f_back
-    return None
+    def __init__(self, recording: Recording, mid: int, clock: Callable[[], float]) -> None:
+        self.rec, self.mid, self.clock = recording, mid, clock
+        self.ran: set[Any] = set()  # slots whose first run is recorded (freed ones are dropped)
+        self.failed: tuple[tuple[int, int] | None, int] | None = None  # where the run reporting an error is
+
+    def program_stored(self, runtime: Any, slot: Any) -> None:
+        where, line = self.rec._locate(self.mid, slot.code, 0)
+        name = self.rec.sources.fragment_name(where)
+        self.rec._event(self.clock(), self.mid, "program", where, line,
+                        f"fragment {name} received and stored ({len(slot.code)} bytes)")
+
+    def run_finished(self, runtime: Any, task: Any, result: Any) -> None:
+        # repeating behaviours run every tick: the first run of a slot (and every error) is the story
+        outcome = result.outcome
+        if task.slot in self.ran and outcome is not ERROR:
+            if outcome is HALT:
+                self.failed = (None, -1)
+            return
+        if len(self.ran) >= 64:  # a freed slot never runs again: forget those
+            self.ran.intersection_update(runtime.store.slots)
+        self.ran.add(task.slot)
+        where = self.rec._run_finished(self.clock(), self.mid, task, result)
+        if outcome is ERROR or outcome is HALT:
+            self.failed = where  # the error the runtime reports next is this run's: located here
+
+    def role_set(self, runtime: Any, role: int, code: bytes | None, pc: int | None) -> None:
+        where, line = self.rec._at(self.mid, code, pc)
+        self.rec._event(self.clock(), self.mid, "role", where, line,
+                        f"role set to {runtime.roles.name(role)}")
+
+    def handler_installed(self, runtime: Any, event: int, slot: Any, code: bytes | None,
+                          pc: int | None) -> None:
+        self.rec._installed(self.mid, slot.code, code)
+
+    def command_installed(self, runtime: Any, role: int, command: int, slot: Any, code: bytes | None,
+                          pc: int | None) -> None:
+        self.rec._installed(self.mid, slot.code, code)
+
+    def handler_fired(self, runtime: Any, event: int, slot: Any) -> None:
+        where, line = self.rec._locate(self.mid, slot.code, 0)
+        self.rec._event(self.clock(), self.mid, "handler", where, line, f"handler of event {event} fired")
+
+    def command_sent(self, runtime: Any, role: int, command: int, arg: int, code: bytes | None,
+                     pc: int | None) -> None:
+        where, line = self.rec._at(self.mid, code, pc)
+        name = "any role" if role == ANY_ROLE else runtime.roles.name(role)
+        self.rec._event(self.clock(), self.mid, "send", where, line,
+                        f"sent {_command_name(command)} ({arg}) to {name}")
+
+    def command_executed(self, runtime: Any, command: int, arg: int, code: bytes | None,
+                         pc: int | None) -> None:
+        key = (command, arg)  # behaviours repeat the same command every tick: keep the changes
+        if self.rec._last_command.get(self.mid) == key:
+            return
+        self.rec._last_command[self.mid] = key
+        where, line = self.rec._at(self.mid, code, pc)
+        self.rec._event(self.clock(), self.mid, "command", where, line,
+                        f"command {_command_name(command)} ({arg}) executed")
+
+    def error(self, runtime: Any, message: str, code: bytes | None, pc: int | None) -> None:
+        if self.failed is not None:
+            (where, line), self.failed = self.failed, None
+        else:
+            where, line = self.rec._at(self.mid, code, pc)
+        self.rec._event(self.clock(), self.mid, "error", where, line, f"error: {message}")
+
+    def traced(self, runtime: Any, text: str, code: bytes | None, pc: int | None) -> None:
+        where, line = self.rec._at(self.mid, code, pc)
+        self.rec._event(self.clock(), self.mid, "trace", where, line, f"trace: {text}")
+
+
+def _size(code: bytes, pc: int) -> int:
+    """Bytes of the instruction at ``pc`` (1 for a push or an unknown byte)."""
+    op = code[pc] if 0 <= pc < len(code) else 0
+    ins = BY_OPCODE.get(op) if op < PUSH_SMALL_BASE else None
+    return ins.size if ins is not None else 1
 
 
 def _command_name(command: Any) -> str:
