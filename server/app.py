@@ -94,6 +94,19 @@ class RdcdServer(LanguageServer):
         except Exception:
             log.exception("checking %s failed", document.uri)
 
+    async def checked(self, uri: str) -> tuple[Document, Analysis] | None:
+        """(document, analysis) of the document's text as it is now, waited for without holding up
+        the loop; None for a document that is not open, or when the text changed meanwhile (the
+        client asks again). For requests whose answer must match the text they were asked on."""
+        document = self.document(uri)
+        if document is None:
+            return None
+        text = document.text
+        analysis = await self.analysis_of(document)
+        if analysis is None or document.text is not text:
+            return None
+        return document, analysis
+
     async def analysis_of(self, document: Document) -> Analysis | None:
         """The analysis of the document's text as it is now, made in the worker thread while the
         event loop goes on answering; None if the text changed before it was ready. Every request

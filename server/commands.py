@@ -149,7 +149,7 @@ async def run_simulation(ls: Any, uri: Any, options: Any) -> dict[str, Any]:
     # the program as the editor compiles it (rdcd.target), run on the VM profile the options name
     values.setdefault("target", ls.settings.target)
     shown = display_path(uri)
-    first = _first_error_in_editor(ls, uri, text, shown)
+    first = await _first_error_in_editor(ls, uri, text, shown)
     if first is not None:  # no child needed to say so, and no temporary path in the message
         raise RequestFailed(first)
     try:
@@ -249,13 +249,24 @@ def beside_document(uri: str, options: dict[str, str]) -> dict[str, str]:
     return options
 
 
-def _first_error_in_editor(ls: Any, uri: str, text: str, shown: str) -> str | None:
-    """The first error of the text as the editor has it (the check the diagnostics come from)."""
-    from rdcd_core.diagnostics import Severity
+async def _analysis_of_text(ls: Any, uri: str, text: str) -> Any:
+    """The analysis of ``text``, the editor's own one when the open document still holds it (the
+    check the diagnostics come from), else one made for ``rdcd.target``; either way in the
+    server's worker thread, so the loop goes on answering."""
     from rdcd_core.ide.analysis import analyze
 
-    document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
-    analysis = document.current() if document is not None else analyze(text)
+    found = await ls.checked(uri)
+    if found is not None and found[0].text == text:
+        return found[1]
+    return await asyncio.get_running_loop().run_in_executor(
+        ls.checker, lambda: analyze(text, target=ls.settings.target))
+
+
+async def _first_error_in_editor(ls: Any, uri: str, text: str, shown: str) -> str | None:
+    """The first error of the text as the editor has it."""
+    from rdcd_core.diagnostics import Severity
+
+    analysis = await _analysis_of_text(ls, uri, text)
     error = next((d for d in analysis.diagnostics if d.severity is Severity.ERROR), None)
     if error is None:
         return None
@@ -279,16 +290,14 @@ def _clip(text: str, limit: int = 500) -> str:
     return text if len(text) <= limit else f"{text[:limit // 2]} … {text[-limit // 2:]}"
 
 
-def bytecode_listing(ls: Any, uri: Any) -> str:
+async def bytecode_listing(ls: Any, uri: Any) -> str:
     """The listing of ``rdcd compile --format listing`` for the document as it is in the editor."""
     from rdcd_core.compiler import add_source_lines
     from rdcd_core.compiler.render import render_listing
     from rdcd_core.diagnostics import Severity
-    from rdcd_core.ide.analysis import analyze
 
     text = _document_text(ls, uri)
-    document = ls.documents.get(uri)  # an open document's text is ``text``: reuse its analysis
-    analysis = document.current() if document is not None else analyze(text, target=ls.settings.target)
+    analysis = await _analysis_of_text(ls, uri, text)
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     program = analysis.compiled() if analysis.model is not None and not errors else None
     if program is None:
@@ -306,5 +315,5 @@ def register(server: Any) -> None:
         return await run_simulation(ls, uri, options)
 
     @server.command(SHOW_BYTECODE)
-    def show_bytecode(ls, *args):  # type: ignore[no-untyped-def]
-        return bytecode_listing(ls, args[0] if args else None)
+    async def show_bytecode(ls, *args):  # type: ignore[no-untyped-def]
+        return await bytecode_listing(ls, args[0] if args else None)

@@ -53,15 +53,6 @@ class Document:
             if analysis.model is not None and not analysis.has_syntax_errors:
                 self.last_good = analysis
 
-    def current(self) -> Analysis:
-        """The analysis of the current text, checked now (on this thread) if it has not been yet.
-        Request handlers await ``RdcdServer.analysis_of`` instead, which leaves the loop free."""
-        if self.analysis is None:
-            analysis = analyze(self.text, previous=self.last_good, target=self.target)
-            self.record(analysis, self.version, self.text, self.target)
-        assert self.analysis is not None
-        return self.analysis
-
     def model_for_completion(self) -> Analysis | None:
         """The analysis completion reads, never waited for: the current one if good, else the
         last good one, else the newest (None before the first check has finished)."""

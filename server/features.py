@@ -48,13 +48,10 @@ async def _exact(ls: RdcdServer, params):  # type: ignore[no-untyped-def]
     """(document, positions, offset, analysis) for a request whose answer must match the text it
     was asked on (locations, edits): waits for that text's check without holding up the loop;
     None for an unknown document, or when the text changed meanwhile (the client asks again)."""
-    document = ls.document(params.text_document.uri)
-    if document is None:
+    found = await ls.checked(params.text_document.uri)
+    if found is None:
         return None
-    text = document.text
-    analysis = await ls.analysis_of(document)
-    if analysis is None or document.text is not text:
-        return None
+    document, analysis = found
     positions = ls.positions(document)
     return document, positions, positions.offset(params.position), analysis
 

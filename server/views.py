@@ -64,25 +64,12 @@ def encode_tokens(found: list[tokens.Token], positions: Positions) -> list[int]:
     return data
 
 
-async def _checked(ls: RdcdServer, uri: str):  # type: ignore[no-untyped-def]
-    """(document, analysis) of the text as it is now, waited for without holding up the loop;
-    None for an unknown document or when the text changed meanwhile (the client asks again)."""
-    document = ls.document(uri)
-    if document is None:
-        return None
-    text = document.text
-    analysis = await ls.analysis_of(document)
-    if analysis is None or document.text is not text:
-        return None
-    return document, analysis
-
-
 def register(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     @guarded(list)
     async def on_document_symbol(ls: RdcdServer,
                                  params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
-        found = await _checked(ls, params.text_document.uri)
+        found = await ls.checked(params.text_document.uri)
         if found is None:
             return []
         document, analysis = found
@@ -119,7 +106,7 @@ def register(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, LEGEND)
     @guarded(lambda: types.SemanticTokens(data=[]))
     async def on_semantic_tokens(ls: RdcdServer, params: types.SemanticTokensParams) -> types.SemanticTokens:
-        found = await _checked(ls, params.text_document.uri)
+        found = await ls.checked(params.text_document.uri)
         if found is None:
             return types.SemanticTokens(data=[])
         document, analysis = found
@@ -129,7 +116,7 @@ def register(server: RdcdServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
     @guarded(list)
     async def on_folding(ls: RdcdServer, params: types.FoldingRangeParams) -> list[types.FoldingRange]:
-        found = await _checked(ls, params.text_document.uri)
+        found = await ls.checked(params.text_document.uri)
         if found is None:
             return []
         kinds = {"comment": types.FoldingRangeKind.Comment, "region": types.FoldingRangeKind.Region}
@@ -141,7 +128,7 @@ def register(server: RdcdServer) -> None:
     async def on_inlay_hint(ls: RdcdServer, params: types.InlayHintParams) -> list[types.InlayHint]:
         if not ls.settings.fragment_size_hints:
             return []
-        found = await _checked(ls, params.text_document.uri)
+        found = await ls.checked(params.text_document.uri)
         if found is None:
             return []
         document, analysis = found
