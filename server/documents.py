@@ -9,7 +9,7 @@ from __future__ import annotations
 import asyncio
 from dataclasses import dataclass, field
 
-from rdcd_core.ide.analysis import Analysis, analyze
+from rdcd_core.ide.analysis import Analysis
 from rdcd_core.source import LineIndex, Span
 from server.convert import Positions
 
