@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 
 from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
+from tests.syntax.fuzz_inputs import nested_statements
 from vm.isa.targets import ORIGINAL
 from vm.isa.verifier import verify
 
@@ -20,18 +21,8 @@ SIMPLE = ["self.setLed(k);", "self.sleep();", "self.turnTowards(-30);", "self.tu
 
 
 def statements(depth: int) -> st.SearchStrategy[str]:
-    simple = st.sampled_from(SIMPLE)
-    if depth == 0:
-        return simple
-    inner = st.lists(statements(depth - 1), max_size=3).map(" ".join)
-    return st.one_of(
-        simple,
-        st.builds(lambda c, a, b: f"if ({c}) {{ {a} }} else {{ {b} }}", st.sampled_from(CONDITIONS), inner,
-                  inner),
-        st.builds(lambda c, a: f"if ({c}) {{ {a} }}", st.sampled_from(CONDITIONS), inner),
-        st.builds(lambda a: f"self.handleEvent(EVENT_PROXIMITY_4, {{ {a} }});", inner),
-        st.builds(lambda a: f"self.assumeRole(M, {{ {a} }});", inner),
-    )
+    return nested_statements(SIMPLE, CONDITIONS, depth, ("self.handleEvent(EVENT_PROXIMITY_4, {{ {body} }});",
+                                                          "self.assumeRole(M, {{ {body} }});"))
 
 
 def program(startup: str, behaviour: str, command: str) -> str:

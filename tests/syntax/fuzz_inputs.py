@@ -7,6 +7,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from hypothesis import strategies as st
+
 EXAMPLES = Path(__file__).resolve().parent.parent.parent / "examples"
 TOKEN_RE = re.compile(r"//[^\n]*|/\*.*?\*/|[A-Za-z_]\w*|\d+|:=|\|\||&&|==|!=|<=|>=|\S", re.S)
 PUNCT = ["{", "}", "(", ")", ",", ";", ".", ":=", "||", "&&", "==", "!=", "<", ">", "<=", ">=",
@@ -50,3 +52,20 @@ def edit(tokens: list[str], operation: str, index: int, word: str) -> None:
         tokens.insert(index, word)
     else:
         tokens[index] = word
+
+
+def nested_statements(simple: list[str], conditions: list[str], depth: int,
+                      blocks: tuple[str, ...] = ()) -> st.SearchStrategy[str]:
+    """Random statement lists up to ``depth`` levels: ``simple`` statements, ``if``/``else`` on
+    ``conditions``, and each of ``blocks`` (a format with one ``{body}``) around an inner list."""
+    plain = st.sampled_from(simple)
+    if depth == 0:
+        return plain
+    inner = st.lists(nested_statements(simple, conditions, depth - 1, blocks), max_size=3).map(" ".join)
+    condition = st.sampled_from(conditions)
+    return st.one_of(
+        plain,
+        st.builds(lambda c, a, b: f"if ({c}) {{ {a} }} else {{ {b} }}", condition, inner, inner),
+        st.builds(lambda c, a: f"if ({c}) {{ {a} }}", condition, inner),
+        *(inner.map(lambda a, block=block: block.format(body=a)) for block in blocks),
+    )
