@@ -91,6 +91,18 @@ def test_bad_debounce_on_the_command_line(value: str) -> None:
 
 @pytest.mark.parametrize("value", ["abc", "inf", "nan", "-5", "1e400", "99999999"])
 def test_bad_debounce_in_the_environment_falls_back_and_publishes(value: str) -> None:
+    text = _serve_with_debounce_variable(value)
+    assert "Traceback" not in text
+    assert "RDCD_LSP_DEBOUNCE_MS" in text.splitlines()[0]
+
+
+def test_good_debounce_in_the_environment() -> None:
+    assert "RDCD_LSP_DEBOUNCE_MS" not in _serve_with_debounce_variable(" 5 ")
+
+
+def _serve_with_debounce_variable(value: str) -> str:
+    """The server's stderr after it started with RDCD_LSP_DEBOUNCE_MS=value, published the
+    diagnostics of an opened document and shut down cleanly."""
     server = RawServer(env=dict(os.environ, RDCD_LSP_DEBOUNCE_MS=value))
     try:
         server.initialize()
@@ -98,20 +110,7 @@ def test_bad_debounce_in_the_environment_falls_back_and_publishes(value: str) ->
         assert server.stop() == 0
     finally:
         server.kill()
-    text = server.stderr_text()
-    assert "Traceback" not in text
-    assert "RDCD_LSP_DEBOUNCE_MS" in text.splitlines()[0]
-
-
-def test_good_debounce_in_the_environment() -> None:
-    server = RawServer(env=dict(os.environ, RDCD_LSP_DEBOUNCE_MS=" 5 "))
-    try:
-        server.initialize()
-        opened(server)
-        assert server.stop() == 0
-    finally:
-        server.kill()
-    assert "RDCD_LSP_DEBOUNCE_MS" not in server.stderr_text()
+    return server.stderr_text()
 
 
 BAD_SETTINGS = [
