@@ -82,7 +82,7 @@ def _fail(message: str) -> int:
     return 2
 
 
-def _check_options(args: argparse.Namespace) -> str | None:
+def check_options(args: argparse.Namespace) -> str | None:
     from sim.quiet import import_pybullet
 
     import_pybullet()
@@ -217,7 +217,7 @@ def run(args: argparse.Namespace) -> int:
     from sim.config import ConfigError, config_file, load_config
 
     # everything that can be refused is, before the program is compiled and the world built
-    problem = _check_options(args)
+    problem = check_options(args)
     if problem:
         return _fail(problem)
     try:

@@ -71,12 +71,12 @@ def number_text(value: float) -> str:
 
 def check_values(values: dict[str, Any]) -> str | None:
     """``rdcd simulate``'s own checks of the option values (ranges, obstacle syntax), or None."""
-    from sim.cli_simulate import _check_options
+    from sim.cli_simulate import check_options
 
     every = {a.dest: a.default for a in _parser()._actions}  # noqa: SLF001
     namespace = argparse.Namespace(**{**every, **values, "gui": False, "record": None,
                                       "report": None, "plot": None})
-    return _check_options(namespace)
+    return check_options(namespace)
 
 
 def compile_like_simulate(text: str, vm: str | None):  # noqa: ANN201 - check result, program, diagnostics
