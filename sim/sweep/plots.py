@@ -13,8 +13,8 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
+from rdcd_core.outputs import write_atomically, write_with
 from sim.sweep.plan import Plan
-from sim.sweep.store import replace_with
 from sim.sweep.tables import rows, wilson
 
 LOSS_PLOT = "success_vs_packet_loss.png"
@@ -23,7 +23,7 @@ DISTRIBUTIONS = "distributions.png"
 
 
 def _save(fig: Any, path: Path) -> Path:
-    replace_with(path, lambda temporary: fig.savefig(temporary, format="png", dpi=100))
+    write_with(str(path), lambda file: fig.savefig(file, format="png", dpi=100))
     return path
 
 
@@ -114,7 +114,6 @@ def _distributions(fig: Any, measures: dict[str, dict[str, list[float]]], path: 
 
 
 def write_index(plan: Plan, cells: list[dict[str, Any]], images: list[Path], command: str) -> Path:
-    from sim.sweep.store import write_atomically
 
     e = plan.experiment
     axes = e.cell_axes

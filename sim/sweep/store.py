@@ -17,6 +17,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from rdcd_core.outputs import write_atomically
+
 MARKER = "sweep.json"
 GENERATED = ("runs.csv", "runs.parquet", "summary.csv", "index.html", MARKER)
 _KEY = re.compile(r"[0-9a-f]{6,64}")
@@ -91,18 +93,10 @@ class Store:
         return sorted(p.stem for p in self.runs.glob(f"{prefix}*.json"))
 
 
-def write_atomically(path: str, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path``, flush it to disk, rename it into place."""
-    def write(temporary: str) -> None:
-        with open(temporary, "w", encoding="utf-8") as file:
-            file.write(text)
-            file.flush()
-            os.fsync(file.fileno())
-    replace_with(Path(path), write)
-
-
 def replace_with(path: Path, write: Any) -> None:
-    """Write a file through ``write(temporary_path)`` and rename it into place (atomic)."""
+    """Write a file through ``write(temporary_path)`` and rename it into place (atomic): for
+    writers that must open the file themselves (pyarrow's ParquetWriter closes its sink); every
+    other output goes through ``rdcd_core.outputs``."""
     fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
     os.close(fd)
     try:

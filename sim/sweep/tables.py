@@ -7,12 +7,14 @@ than one of ten; only the per-cell counts are held.
 from __future__ import annotations
 
 import csv
+import io
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
+from rdcd_core.outputs import write_with
 from sim.sweep.plan import Plan
 from sim.sweep.rows import columns, succeeded
 from sim.sweep.store import replace_with
@@ -75,13 +77,13 @@ def write_runs_csv(plan: Plan) -> Path:
     path = plan.store.root / "runs.csv"
     names = columns(plan.experiment.option_names)
 
-    def write(temporary: str) -> None:
-        with open(temporary, "w", encoding="utf-8", newline="") as file:
-            writer = csv.DictWriter(file, names, extrasaction="ignore")
+    def write(file: BinaryIO) -> None:
+        with _Utf8Text(file) as text:
+            writer = csv.DictWriter(text, names, extrasaction="ignore")
             writer.writeheader()
             for row in rows(plan):
                 writer.writerow(row)
-    replace_with(path, write)
+    write_with(str(path), write)
     return path
 
 
@@ -129,12 +131,12 @@ def write_summary_csv(plan: Plan, cells: list[dict[str, Any]]) -> Path:
     path = plan.store.root / "summary.csv"
     names = list(cells[0]) if cells else [*plan.experiment.cell_axes, "runs"]
 
-    def write(temporary: str) -> None:
-        with open(temporary, "w", encoding="utf-8", newline="") as file:
-            writer = csv.DictWriter(file, names)
+    def write(file: BinaryIO) -> None:
+        with _Utf8Text(file) as text:
+            writer = csv.DictWriter(text, names)
             writer.writeheader()
             writer.writerows(cells)
-    replace_with(path, write)
+    write_with(str(path), write)
     return path
 
 
@@ -159,3 +161,14 @@ def _text(value: Any) -> str:
     from sim.sweep.options import number_text
 
     return number_text(value) if isinstance(value, float) else str(value)
+
+
+class _Utf8Text(io.TextIOWrapper):
+    """UTF-8 text over the binary file ``write_with`` hands out, left open for it to sync and close."""
+
+    def __init__(self, file: BinaryIO) -> None:
+        super().__init__(file, encoding="utf-8", newline="")
+
+    def __exit__(self, *exc: object) -> None:
+        self.flush()
+        self.detach()
