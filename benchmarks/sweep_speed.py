@@ -1,5 +1,5 @@
 """Speed of `rdcd sweep`: throughput per worker count, parallel efficiency, scheduling overhead,
-and the driver's memory over a long sweep.
+and the memory of the driver and the workers over a long sweep.
 
     python benchmarks/sweep_speed.py [--runs 8] [--lattice-runs 10000] [--lattice-workers 2]
                                      [--skip-lattice] [--skip-throughput]
@@ -13,7 +13,10 @@ and the driver's memory over a long sweep.
    overhead per run: wall time x workers minus the runs' own time, per run, against a run's time
    (target < 5 %).
 2. A sweep of ``--lattice-runs`` short lattice-world runs (car7, 1 s, seeds 1..N) on two workers,
-   sampling the driver's resident memory every second: it must not grow with the number of runs.
+   sampling the resident memory of the driver (which holds a local cluster's scheduler) and of
+   the worker processes every second: it must not grow with the number of runs. Printed over the
+   whole sweep and over each half (allocators settle over the first thousands of runs;
+   ``--lattice-runs 30000`` shows the plateau).
 Figures depend on other load on the machine: run it on a quiet one.
 """
 
@@ -63,9 +66,7 @@ def measure(e: sweep.Experiment, out: Path, workers: int, dask: bool) -> tuple[f
         sweep.run(warm, out=out.parent / "warm0-out", workers=1, progress=False)  # imports, compiling
         results = sweep.run(e, out=out, workers=1, progress=False)
     else:
-        from distributed import Client
-
-        with local_cluster(workers) as cluster, Client(cluster) as client:
+        with local_cluster(workers) as client:
             warm = experiment(out.parent, f"warm{workers}", "physics", 1.0, workers, "wall:1.0")
             sweep.run(warm, out=out.parent / f"warm{workers}-out", client=client, progress=False)
             results = sweep.run(e, out=out, client=client, progress=False)
@@ -94,7 +95,7 @@ def lattice_memory(folder: Path, runs: int, workers: int) -> None:
     import psutil
 
     e = experiment(folder, "lattice", "lattice", 1.0, runs, "none")
-    samples: list[tuple[float, int, int]] = []  # (seconds, rows done, RSS bytes)
+    samples: list[tuple[float, int, int, int]] = []  # (seconds, rows done, driver RSS, workers' RSS)
     done = threading.Event()
     me = psutil.Process()
     out = folder / "lattice-out"
@@ -102,8 +103,15 @@ def lattice_memory(folder: Path, runs: int, workers: int) -> None:
     def sample() -> None:
         start = time.monotonic()
         while not done.is_set():
-            count = len(os.listdir(out / "runs")) if (out / "runs").is_dir() else 0
-            samples.append((time.monotonic() - start, count, me.memory_info().rss))
+            # counted one entry at a time: a list of every row file would itself grow with the runs
+            count = sum(1 for _ in os.scandir(out / "runs")) if (out / "runs").is_dir() else 0
+            workers_rss = 0
+            for child in me.children(recursive=True):
+                try:
+                    workers_rss += child.memory_info().rss
+                except psutil.Error:  # a worker starting or stopping
+                    pass
+            samples.append((time.monotonic() - start, count, me.memory_info().rss, workers_rss))
             done.wait(1.0)
 
     sampler = threading.Thread(target=sample, daemon=True)
@@ -119,19 +127,23 @@ def lattice_memory(folder: Path, runs: int, workers: int) -> None:
           f"({results.run_s:.0f} s running, "
           f"{results.outputs_s:.0f} s writing tables and plots), {runs / results.run_s:.0f} runs/s, "
           f"{results.failed} failed")
-    print(f"{'runs done':>10} {'driver RSS MB':>14}")
+    print(f"{'runs done':>10} {'driver RSS MB':>14} {'workers RSS MB':>15}")
     marks = sorted({min(range(len(samples)), key=lambda i: abs(samples[i][1] - runs * f)) for f in
                     (0.05, 0.25, 0.5, 0.75, 1.0)})
     for i in marks:
-        print(f"{samples[i][1]:>10} {samples[i][2] / 1e6:>14.1f}")
+        print(f"{samples[i][1]:>10} {samples[i][2] / 1e6:>14.1f} {samples[i][3] / 1e6:>15.1f}")
     # From 10 % to 95 % of the runs: after the start (imports, first connections) and before the
-    # tables and plots are written (matplotlib is imported then).
-    window = [s for s in samples if runs * 0.1 <= s[1] <= runs * 0.95]
-    if len(window) >= 2:
+    # tables and plots are written (matplotlib is imported then); in halves, as the allocators
+    # settle over the first thousands of runs.
+    for low, high in ((0.1, 0.95), (0.1, 0.5), (0.5, 0.95)):
+        window = [s for s in samples if runs * low <= s[1] <= runs * high]
+        if len(window) < 2:
+            continue
         first, last = window[0], window[-1]
-        growth = (last[2] - first[2]) / max(1, last[1] - first[1])
-        print(f"driver RSS from {first[1]} to {last[1]} runs: {first[2] / 1e6:.1f} -> "
-              f"{last[2] / 1e6:.1f} MB, {growth / 1024:+.2f} KB per run")
+        for column, who in ((2, "driver"), (3, "workers'")):
+            growth = (last[column] - first[column]) / max(1, last[1] - first[1])
+            print(f"{who} RSS from {first[1]} to {last[1]} runs: {first[column] / 1e6:.1f} -> "
+                  f"{last[column] / 1e6:.1f} MB, {growth / 1024:+.3f} KB per run")
 
 
 def main() -> int:

@@ -156,7 +156,7 @@ def _execute(plan: Plan, on_row: Callable[[dict[str, Any]], None], workers: int 
             raise SweepError(f"cannot reach the Dask scheduler at {scheduler}: {error}") from None
         with remote:
             return run_dask(remote, tasks, on_row, warn)
-    with local_cluster(workers or cores()) as cluster, Client(cluster) as local:
+    with local_cluster(workers or cores()) as local:
         return run_dask(local, tasks, on_row, warn)
 
 

@@ -12,6 +12,7 @@ import logging
 import os
 import uuid
 from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from sim.sweep.execute import failed_row, run_task
@@ -32,15 +33,66 @@ def run_serial(tasks: Iterator[dict[str, Any]], on_row: OnRow) -> None:
         on_row(run_task(task))
 
 
-def local_cluster(workers: int) -> Any:
-    """One single-threaded worker process per core: PyBullet holds the GIL, and the simulator
-    redirects file descriptors process-wide, so threads would not help."""
-    from distributed import LocalCluster
+#: Dask's bounded logs of recent messages and transitions (1,000 entries each per connection) and
+#: its system monitor (7,200 samples, an hour) fill up over the first few thousand runs; with the
+#: scheduler in the driver they are the driver's memory, and no dashboard reads them here.
+DRIVER_HISTORY = {"distributed.admin.low-level-log-length": 64,
+                  "distributed.admin.system-monitor.log-length": 64}
+
+#: Runs between two ``forget_scheduler_history`` calls.
+FORGET_EVERY = 256
+
+TASK_PREFIX = "rdcd-run"
+
+
+@contextmanager
+def local_cluster(workers: int) -> Iterator[Any]:
+    """A client of a new local cluster: one single-threaded worker process per core (PyBullet holds
+    the GIL, and the simulator redirects file descriptors process-wide, so threads would not help)."""
+    import dask
+    from distributed import Client, LocalCluster
 
     # No dashboard: its task stream keeps a record of every task (up to 100,000), so the driver,
     # which holds a local cluster's scheduler, would grow with the number of runs.
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.ERROR)
+    with dask.config.set(DRIVER_HISTORY), \
+            LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                         silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        yield client
+
+
+def forget_scheduler_history(dask_scheduler: Any) -> None:
+    """Run on the scheduler (``client.run_on_scheduler``): drop what it keeps for every submission
+    of ours although nothing reads it back, so a long sweep does not grow its memory.
+
+    - Every ``client.submit`` appends ``{"type": "Future"}`` to the metadata of the span holding the
+      task's group and of the spans holding the groups it depends on, and spans live as long as the
+      scheduler (distributed 2026.8): those lists grow by an entry per run. Duplicates say nothing:
+      keep one of each.
+    - ``dask.utils.key_split`` caches up to 100,000 keys, each of ours seen once: clear it (a cache).
+    """
+    from dask.utils import key_split
+
+    spans = getattr(dask_scheduler.extensions.get("spans"), "spans", {})
+    ours = [group for name, group in list(dask_scheduler.task_groups.items())
+            if isinstance(name, str) and name.startswith(TASK_PREFIX)]
+    # the scattered program and configurations may sit in another span, which gets the entry too
+    groups = ours + [dependency for group in ours for dependency in group.dependencies]
+    for span_id in {group.span_id for group in groups if group.span_id}:
+        metadata = getattr(spans.get(span_id), "_metadata", None)
+        if isinstance(metadata, dict) and isinstance(metadata.get("collections"), list):
+            distinct: list[Any] = []
+            for collection in metadata["collections"]:
+                if collection not in distinct:
+                    distinct.append(collection)
+            metadata["collections"][:] = distinct
+    key_split.cache_clear()
+
+
+def forget_worker_history() -> None:
+    """Run on each worker (``client.run``): its ``key_split`` cache too holds every key it ran."""
+    from dask.utils import key_split
+
+    key_split.cache_clear()
 
 
 def _shared(client: Any, shared: dict[str, Any], value: Any) -> Any:
@@ -69,6 +121,21 @@ def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
     keys: set[str] = set()
     completed = as_completed()
     lost = 0
+    finished = 0
+    # housekeeping on the scheduler and the workers, until one of them cannot run it (rdcd not
+    # importable on an external scheduler): it only saves memory, so the sweep goes on without it
+    forgetting = {"scheduler": True, "workers": True}
+
+    def forget_history() -> None:
+        for where, run in (("scheduler", lambda: client.run_on_scheduler(forget_scheduler_history)),
+                           ("workers", lambda: client.run(forget_worker_history))):
+            if not forgetting[where]:
+                continue
+            try:
+                run()
+            except Exception as error:  # noqa: BLE001 - see above
+                forgetting[where] = False
+                logging.getLogger(__name__).debug("%s history not trimmed: %s", where, error)
 
     def submit_next() -> None:
         for task in tasks:
@@ -77,7 +144,7 @@ def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
             slim = {k: v for k, v in task.items() if k not in ("program", "config")}
             future = client.submit(run_hosted, slim, _shared(client, shared, task["program"]),
                                    _shared(client, shared, task["config"]),
-                                   key=f"rdcd-run-{task['key']}-{uuid.uuid4().hex[:8]}")
+                                   key=f"{TASK_PREFIX}-{task['key']}-{uuid.uuid4().hex[:8]}")
             inflight[future] = task
             keys.add(task["key"])
             completed.add(future)
@@ -99,6 +166,9 @@ def run_dask(client: Any, tasks: Iterator[dict[str, Any]], on_row: OnRow,
                 warn(f"run {task['key']} not recorded ({type(error).__name__}: {error}); it runs next time")
             finally:
                 future.release()
+            finished += 1
+            if finished % FORGET_EVERY == 0:
+                forget_history()
             submit_next()
     finally:
         if inflight:

@@ -187,3 +187,46 @@ def test_interrupted_sweep_keeps_finished_runs_and_resumes_with_the_missing_ones
         assert ((out / "runs" / name).read_bytes(), (out / "runs" / name).stat().st_mtime_ns) == content
     assert len(stored_rows(out)) == 12
     assert all(r["status"] == "ok" for r in stored_rows(out).values())
+
+
+def _history(dask_scheduler) -> tuple[int, int]:  # type: ignore[no-untyped-def]
+    """(the longest span metadata list, key_split's cache entries) on the scheduler."""
+    from dask.utils import key_split
+
+    spans = dask_scheduler.extensions["spans"].spans.values()
+    longest = max((len((span.metadata or {}).get("collections", [])) for span in spans), default=0)
+    return longest, key_split.cache_info().currsize
+
+
+def test_the_scheduler_forgets_what_it_keeps_per_submission() -> None:
+    """Dask keeps an entry per ``client.submit`` in its span metadata, for ever, and every key in
+    a cache: run_dask trims both, or a long sweep's scheduler (the driver, on a local cluster)
+    grows with the number of runs."""
+    import uuid
+
+    from distributed import Client, Event, LocalCluster
+
+    from sim.sweep.execution import TASK_PREFIX, forget_scheduler_history, forget_worker_history
+
+    def wait_for(event: Event) -> bool:
+        return event.wait(60)
+
+    # processes=False: the worker's cache is the scheduler's, so clearing both is checked too
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
+        shared = client.scatter(["the program"], broadcast=True, hash=False)[0]
+        # one run stays in flight, as in a sweep's window: the group of runs never empties
+        release = Event(f"release-{uuid.uuid4().hex}")
+        blocker = client.submit(wait_for, release, key=f"{TASK_PREFIX}-blocker-{uuid.uuid4().hex[:8]}")
+        for index in range(300):
+            future = client.submit(len, shared, key=f"{TASK_PREFIX}-{index:x}-{uuid.uuid4().hex[:8]}")
+            assert future.result() == len("the program")
+            future.release()
+        longest, cached = client.run_on_scheduler(_history)
+        assert longest >= 300 and cached >= 300  # what Dask does: if this fails, the trim may be moot
+        client.run_on_scheduler(forget_scheduler_history)
+        client.run(forget_worker_history)
+        longest, cached = client.run_on_scheduler(_history)
+        assert longest == 1 and cached == 0
+        release.set()
+        assert blocker.result() is True
