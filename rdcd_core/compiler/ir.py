@@ -46,7 +46,7 @@ class Ins:
 
     @property
     def ends_flow(self) -> bool:
-        return self.op in _ENDS_FLOW
+        return self.op in ENDS_FLOW
 
     @property
     def target(self) -> Label | None:
@@ -61,22 +61,23 @@ class Ins:
 
 _SIZES = {name: instruction.size for name, instruction in BY_NAME.items()}  # read for every pass
 _ALONE = {name: bytes([instruction.opcode]) for name, instruction in BY_NAME.items()}  # no operands
-_ENDS_FLOW = frozenset(name for name, instruction in BY_NAME.items() if instruction.no_fallthrough)
+_OPCODES = {name: instruction.opcode for name, instruction in BY_NAME.items()}
+ENDS_FLOW = frozenset(name for name, instruction in BY_NAME.items() if instruction.no_fallthrough)
 Item = Union[Ins, Label]
 JUMPS = {"GOTO", "IF_FALSE_GOTO", "IF_TRUE_GOTO"}
 COND_JUMPS = {"IF_FALSE_GOTO", "IF_TRUE_GOTO"}
 
 
 def code_size(code: list[Item]) -> int:
-    return sum(item.size for item in code if isinstance(item, Ins))
+    return sum(item.size for item in code if type(item) is Ins)
 
 
 def bodies_of(code: list[Item]) -> list[Body]:
     found: dict[int, Body] = {}  # by identity, in order of first use
     for item in code:
-        if isinstance(item, Ins):
+        if type(item) is Ins:
             for arg in item.args:
-                if isinstance(arg, Body):
+                if type(arg) is Body:
                     found.setdefault(id(arg), arg)
     return list(found.values())
 
@@ -89,14 +90,14 @@ def encode(ins: Ins, labels: dict[int, int], ranges: dict[int, tuple[int, int]])
         return bytes([BY_NAME["PUSHC"].opcode, value & 0xFF])
     if not ins.args:
         return _ALONE[ins.op]
-    out = [BY_NAME[ins.op].opcode]
+    out = [_OPCODES[ins.op]]
     for arg in ins.args:
-        if isinstance(arg, Label):
-            out.append(labels[id(arg)])
-        elif isinstance(arg, Body):
-            out.extend(ranges[id(arg)])
+        if type(arg) is Label:
+            out.append(labels[id(arg)] & 0xFF)
+        elif type(arg) is Body:
+            out.extend([b & 0xFF for b in ranges[id(arg)]])
         else:
-            out.append(arg)
+            out.append(arg & 0xFF)
     # Offsets past 255 only occur in code far over the 64-byte slot (reported as E601); the
     # planner still needs its size, so every operand is kept to one byte.
-    return bytes(b & 0xFF for b in out)
+    return bytes(out)

@@ -13,7 +13,7 @@ def assemble(code: list[Item]) -> tuple[bytes, list[SourceEntry]]:
     labels: dict[int, int] = {}
     offset = 0
     for item in code:
-        if isinstance(item, Label):
+        if type(item) is Label:
             labels[id(item)] = offset
         else:
             offset += item.size
@@ -22,14 +22,16 @@ def assemble(code: list[Item]) -> tuple[bytes, list[SourceEntry]]:
     tail_entries: list[SourceEntry] = []
     ranges: dict[int, tuple[int, int]] = {}
     placed: dict[bytes, int] = {}
-    main_size = code_size(code)
+    main_size = offset  # code_size(code)
     for body in bodies_of(code):
         ranges[id(body)] = _place(body, main_size, tail, tail_entries, placed)
     entries: list[SourceEntry] = []
+    add_entry = entries.append
     for item in code:
-        if isinstance(item, Ins):
-            entries.append(SourceEntry(len(blob), item.size, item.span))
-            blob += encode(item, labels, ranges)
+        if type(item) is Ins:
+            encoded = encode(item, labels, ranges)
+            add_entry(SourceEntry(len(blob), item.size, item.span))
+            blob += encoded
     return bytes(blob + tail), entries + tail_entries
 
 

@@ -9,6 +9,7 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.entry import behaviour_numbers, methods_of
 from rdcd_core.semantics.model import Model
+from rdcd_core.semantics.walk import code_nodes
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import PROGRAM_SLOTS, USER_COMMANDS
 
@@ -42,7 +43,7 @@ def program_limit(model: Model, slots: int = PROGRAM_SLOTS) -> list[diag.Diagnos
         for method in symbol.methods.values():
             if method.decl.body is None:
                 continue
-            for node in ast.walk(method.decl.body):
+            for node in code_nodes(method.decl.body):
                 if isinstance(node, ast.SelfCall) and node.name.text == "handleEvent" and node.args:
                     # one slot per event (a new handler replaces the old): compare without spans
                     events.add(ast.strip_spans(node.args[0]))

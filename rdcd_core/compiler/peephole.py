@@ -5,8 +5,10 @@ Works on code lists (``ir``) before layout, to a fixed point; bodies are optimis
 
 from __future__ import annotations
 
+from operator import is_
+
 from rdcd_core.compiler.geometry import ROLE_DIRECTION_OPS
-from rdcd_core.compiler.ir import COND_JUMPS, JUMPS, Ins, Item, Label, bodies_of
+from rdcd_core.compiler.ir import COND_JUMPS, ENDS_FLOW, JUMPS, Ins, Item, Label, bodies_of
 from rdcd_core.compiler.tails import merge_tails
 
 FLIP = {"IF_FALSE_GOTO": "IF_TRUE_GOTO", "IF_TRUE_GOTO": "IF_FALSE_GOTO"}
@@ -33,26 +35,33 @@ def optimise(code: list[Item]) -> list[Item]:
         if not body.optimised:
             body.code[:] = optimise(body.code)
             body.optimised = True
-    before = _keys(code)
+    # A pass is a function of the items alone: one that changed nothing on the code as it is now
+    # would change nothing again, so a round stops as soon as every pass has run on the current
+    # code without changing it (the passes after the last change in a round ran on it already).
+    unchanged_by = [False] * len(PASSES)
     for _ in range(MAX_ROUNDS):
-        code = _fuse(code)
-        code = _drop_dead(code)
-        code = _skip_over_goto(code)
-        code = _thread(code)
-        code = merge_tails(code)
-        after = _keys(code)
-        if before == after:
-            break
-        before = after
+        for index, apply in enumerate(PASSES):
+            if unchanged_by[index]:
+                continue
+            after = apply(code)
+            if _same_items(code, after):
+                unchanged_by[index] = True
+                if all(unchanged_by):
+                    return code
+            else:
+                code = after
+                unchanged_by = [False] * len(PASSES)
     return code
 
 
-def _keys(code: list[Item]) -> list[object]:
-    return [item.key() if isinstance(item, Ins) else id(item) for item in code]
+def _same_items(before: list[Item], after: list[Item]) -> bool:
+    """The same items in the same order. A pass makes a new instruction only where it changes the
+    code (a new operation or target, never an equal copy), so this is "a round changed nothing"."""
+    return len(before) == len(after) and all(map(is_, before, after))
 
 
 def _referenced(code: list[Item]) -> set[int]:
-    return {id(item.args[0]) for item in code if isinstance(item, Ins) and item.op in JUMPS}
+    return {id(item.args[0]) for item in code if type(item) is Ins and item.op in JUMPS}
 
 
 def _falls_to(code: list[Item], index: int, label: Label) -> bool:
@@ -63,39 +72,34 @@ def _falls_to(code: list[Item], index: int, label: Label) -> bool:
         item = code[position]
         if item is label:
             return True
-        if isinstance(item, Ins):
+        if type(item) is Ins:
             return False
     return False
 
 
-class _Targets:
-    """The first instruction at or after each label, in a code list whose instructions may be
-    replaced but not moved (searching the whole code for each jump made threading quadratic)."""
-
-    def __init__(self, code: list[Item]) -> None:
-        self.code = code
-        self.label_at: dict[int, int] = {}  # id(label) -> its first position
-        for index, item in enumerate(code):
-            if isinstance(item, Label):
-                self.label_at.setdefault(id(item), index)
-        self.found: dict[int, int | None] = {}
-
-    def first_ins(self, label: Label) -> int | None:
-        if id(label) not in self.found:
-            start = self.label_at.get(id(label), len(self.code))
-            self.found[id(label)] = next(
-                (i for i in range(start, len(self.code)) if isinstance(self.code[i], Ins)), None)
-        return self.found[id(label)]
+def _first_instructions(code: list[Item]) -> dict[int, int | None]:
+    """id(label) -> the position of the first instruction at or after the label's first position
+    (None: none follows), for a code list whose instructions may be replaced but not moved. One
+    backward scan: searching the code for each jump made threading quadratic."""
+    first: dict[int, int | None] = {}
+    following: int | None = None
+    for index in range(len(code) - 1, -1, -1):
+        item = code[index]
+        if type(item) is Ins:
+            following = index
+        else:  # a label seen twice keeps its first position: the scan runs backwards
+            first[id(item)] = following
+    return first
 
 
 def _thread(code: list[Item]) -> list[Item]:
     code = list(code)
-    targets = _Targets(code)
+    targets = _first_instructions(code)
     for index, item in enumerate(code):
-        if not isinstance(item, Ins) or item.op not in JUMPS:
+        if type(item) is not Ins or item.op not in JUMPS:
             continue
         for _ in range(8):
-            dest_index = targets.first_ins(item.args[0])
+            dest_index = targets.get(id(item.args[0]))
             if dest_index is None:
                 break
             dest = code[dest_index]
@@ -112,21 +116,31 @@ def _thread(code: list[Item]) -> list[Item]:
 
 
 def _drop_dead(code: list[Item]) -> list[Item]:
+    """Code after an instruction that ends the flow, up to a label in use; labels not in use; a
+    GOTO to the very next instruction (only labels between them)."""
     used = _referenced(code)
     result: list[Item] = []
+    append = result.append
     dead = False
+    last_ins = -1  # position in result of the last instruction kept
+    goto_next: list[int] = []  # positions in result of GOTOs to the very next instruction
     for item in code:
-        if isinstance(item, Label):
+        if type(item) is Label:
             if id(item) in used:
                 dead = False
-                result.append(item)
+                if last_ins >= 0 and result[last_ins].op == "GOTO" and result[last_ins].args[0] is item \
+                        and (not goto_next or goto_next[-1] != last_ins):
+                    goto_next.append(last_ins)
+                append(item)
             continue
         if not dead:
-            result.append(item)
-            dead = item.ends_flow
-    # a GOTO to the very next instruction
-    return [item for index, item in enumerate(result)
-            if not (isinstance(item, Ins) and item.op == "GOTO" and _falls_to(result, index, item.args[0]))]
+            last_ins = len(result)
+            append(item)
+            dead = item.op in ENDS_FLOW
+    if not goto_next:
+        return result
+    dropped = set(goto_next)
+    return [item for index, item in enumerate(result) if index not in dropped]
 
 
 def _skip_over_goto(code: list[Item]) -> list[Item]:
@@ -134,18 +148,18 @@ def _skip_over_goto(code: list[Item]) -> list[Item]:
     result = list(code)
     for index in range(len(result) - 2):
         first, second = result[index], result[index + 1]
-        if (isinstance(first, Ins) and first.op in COND_JUMPS and isinstance(second, Ins)
+        if (type(first) is Ins and first.op in COND_JUMPS and type(second) is Ins
                 and second.op == "GOTO" and _falls_to(result, index + 1, first.args[0])):
             result[index] = Ins(FLIP[first.op], second.args, first.span)
             result[index + 1] = Ins("NOP")
-    return [item for item in result if not (isinstance(item, Ins) and item.op == "NOP")]
+    return [item for item in result if not (type(item) is Ins and item.op == "NOP")]
 
 
 def _fuse(code: list[Item]) -> list[Item]:
     result: list[Item] = []
     for item in code:
         result.append(item)
-        if isinstance(item, Ins) and item.op in FUSED_LAST:
+        if type(item) is Ins and item.op in FUSED_LAST:
             _fuse_tail(result)
     return result
 
@@ -155,7 +169,7 @@ def _fuse_tail(out: list[Item]) -> None:
     if len(out) < 2:
         return
     a, b = out[-2], out[-1]
-    if not (isinstance(a, Ins) and isinstance(b, Ins)):
+    if not (type(a) is Ins and type(b) is Ins):
         return
     span = a.span or b.span
     if a.op == "EQUALS_0" and b.op in COND_JUMPS:
@@ -169,7 +183,7 @@ def _fuse_tail(out: list[Item]) -> None:
         out[-2:] = [Ins(f"EQUALS_{a.args[0]}", (), span)]
     elif a.op == "CONNECTED_ROLE" and b.op in COND_JUMPS and a.args[0] in ROLE_DIRECTION_OPS:
         out[-2:] = [Ins(ROLE_DIRECTION_OPS[a.args[0]], (a.args[1],), a.span), b]
-    elif len(out) >= 3 and isinstance(out[-3], Ins) and b.op in MIRROR_CMP:
+    elif len(out) >= 3 and type(out[-3]) is Ins and b.op in MIRROR_CMP:
         _fuse_compare(out)
 
 
@@ -179,3 +193,7 @@ def _fuse_compare(out: list[Item]) -> None:
         out[-3:] = [second, Ins(f"COORD_{COORD_OPS[first.op]}_{cmp.op}", (), cmp.span)]
     elif second.op in COORD_OPS and first.op in PURE_PUSH and first.op not in COORD_OPS:
         out[-3:] = [first, Ins(f"COORD_{COORD_OPS[second.op]}_{MIRROR_CMP[cmp.op]}", (), cmp.span)]
+
+
+# one round, in order (a round runs them all, or stops where the code is known to be final)
+PASSES = (_fuse, _drop_dead, _skip_over_goto, _thread, merge_tails)

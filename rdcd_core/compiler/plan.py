@@ -23,6 +23,10 @@ from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
+# What a trial fragment's code is made of: its kind, its roles and the identities of their entry
+# items (alive while planning). Code made twice from one makeup is the same code.
+Makeup = tuple
+
 
 @dataclass(slots=True)
 class Planner:
@@ -33,16 +37,28 @@ class Planner:
     names: set[str] = field(default_factory=set)  # of the fragments
     suffixes: dict[str, int] = field(default_factory=dict)  # name -> the last suffix taken
 
-    def size(self, code: list[Item]) -> int:
-        return laid_out_size(optimise(code))
+    # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
+    # its last successful trial, made again, and that is not optimised a second time
+    optimised: dict[Makeup, list[Item]] = field(default_factory=dict)
 
-    def fits(self, code: list[Item]) -> bool:
+    def optimise(self, code: list[Item], makeup: Makeup | None = None) -> list[Item]:
+        if makeup is None:
+            return optimise(code)
+        done = self.optimised.get(makeup)
+        if done is None:
+            done = self.optimised[makeup] = optimise(code)
+        return done
+
+    def size(self, code: list[Item], makeup: Makeup | None = None) -> int:
+        return laid_out_size(self.optimise(code, makeup))
+
+    def fits(self, code: list[Item], makeup: Makeup | None = None) -> bool:
         """``size(code) <= budget``; the bound decides most trials without optimising."""
-        return size_bound(code) <= self.budget or self.size(code) <= self.budget
+        return size_bound(code) <= self.budget or self.size(code, makeup) <= self.budget
 
     def add(self, name: str, kind: str, roles: list[str], code: list[Item], span: Span,
-            methods: list[str]) -> None:
-        blob, entries = assemble(optimise(code))
+            methods: list[str], makeup: Makeup | None = None) -> None:
+        blob, entries = assemble(self.optimise(code, makeup))
         unique, n = name, self.suffixes.get(name, 1)
         while unique in self.names:  # resumes where the last fragment of this name stopped
             n += 1
@@ -110,7 +126,7 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
         taken = 0
         while taken < len(pending):
             placed[role].append(pending[taken])
-            if not planner.fits(group_code(ctxs, placed, common)):
+            if not planner.fits(group_code(ctxs, placed, common), _makeup("discovery", placed)):
                 placed[role].pop()
                 break
             taken += 1
@@ -119,11 +135,15 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     span = model.roles[group[0]].decl.name.span
     methods = [item.method for role in group for item in placed[role]]
     planner.add("discover_" + "_".join(group), "discovery", group, group_code(ctxs, placed, common),
-                span, methods)
+                span, methods, _makeup("discovery", placed))
     _continuations(planner, rest)
 
 
 Chunk = dict[str, list[EntryItem]]  # role -> its items in one continuation fragment
+
+
+def _makeup(kind: str, items: dict[str, list[EntryItem]]) -> Makeup:
+    return (kind, *((role, *map(id, role_items)) for role, role_items in items.items()))
 
 
 def _chunk_code(planner: Planner, chunk: Chunk) -> list[Item]:
@@ -142,7 +162,7 @@ def _pack(planner: Planner, rest: dict[str, list[EntryItem]]) -> list[Chunk]:
                     chunks.append({role: [item]})
                     break
                 trial = {**chunks[index], role: chunks[index].get(role, []) + [item]}
-                if planner.fits(_chunk_code(planner, trial)):
+                if planner.fits(_chunk_code(planner, trial), _makeup("continuation", trial)):
                     chunks[index] = trial
                     break
             first = index
@@ -157,7 +177,7 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
         roles = list(chunk)
         span = items[0].span.cover(items[-1].span)
         planner.add(f"{'_'.join(roles)}_{kind}", kind, roles, _chunk_code(planner, chunk), span,
-                    [item.method for item in items])
+                    [item.method for item in items], _makeup("continuation", chunk))
 
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int) -> Planner:

@@ -15,7 +15,7 @@ def merge_tails(code: list[Item]) -> list[Item]:
     bytes are identical (``_signature``) and do not overlap, so the pair is found with a table of
     first occurrences instead of comparing every pair of ends (quadratic in the number of ends).
     """
-    ends = [i for i, item in enumerate(code) if isinstance(item, Ins) and item.ends_flow]
+    ends = [i for i, item in enumerate(code) if type(item) is Ins and item.ends_flow]
     signatures = [_signature(code, end) for end in ends]
     first: dict[tuple, int] = {}
     for end, signature in zip(ends, signatures, strict=True):
@@ -39,7 +39,7 @@ def _signature(code: list[Item], end: int) -> tuple | None:
     size = 0
     index = end
     while size <= GOTO_SIZE:
-        if index < 0 or not isinstance(code[index], Ins):
+        if index < 0 or type(code[index]) is not Ins:
             return None
         keys.append(code[index].key())
         size += code[index].size
@@ -52,7 +52,7 @@ def _common_run(code: list[Item], a: int, b: int) -> int:
     length = 0
     while a - length >= 0 and b - length > a:
         x, y = code[a - length], code[b - length]
-        if not (isinstance(x, Ins) and isinstance(y, Ins)) or x.key() != y.key():
+        if not (type(x) is Ins and type(y) is Ins) or x.key() != y.key():
             break
         length += 1
     return length

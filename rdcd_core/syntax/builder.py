@@ -46,22 +46,24 @@ DEPTHS = _Depths()
 def _nested(node: Any, children: Any, depth: int | None = None) -> Any:
     """Records ``node``, one level above ``children`` (``depth``: its nesting depth, if not that)."""
     depths, heights = DEPTHS.depth, DEPTHS.height
+    depth_of, height_of = depths.get, heights.get
     deepest = highest = 0
     for child in children:  # plain ifs: this runs for every node of every parse
         key = id(child)
-        level = depths.get(key, 0)
+        level = depth_of(key, 0)
         if level > deepest:
             deepest = level
-        level = heights.get(key, 0)
+        level = height_of(key, 0)
         if level > highest:
             highest = level
+    mine = deepest + 1 if depth is None else depth
     key = id(node)
-    depths[key] = deepest + 1 if depth is None else depth
+    depths[key] = mine
     heights[key] = highest + 1
     DEPTHS.keep.append(node)
-    if depths[key] > MAX_DEPTH >= deepest:
+    if mine > MAX_DEPTH >= deepest:
         DEPTHS.too_deep.append(node)
-    elif heights[key] == MAX_HEIGHT + 1 and deepest <= MAX_DEPTH:
+    elif highest == MAX_HEIGHT and deepest <= MAX_DEPTH:
         DEPTHS.too_long.append(node)
     return node
 
