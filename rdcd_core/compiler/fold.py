@@ -18,8 +18,16 @@ from rdcd_core.types import Type
 LOCAL_QUERIES = ("center_position", "total_connected", "connected")
 
 
+_CALLS = (ast.SelfCall, ast.FunctionCall, ast.GlobalCall)
+
+
 def fold(expr: ast.Node, ctx: Context) -> Value | None:
     """The compile-time value of ``expr`` for ``ctx.role``, or None."""
+    kind = type(expr)
+    if kind is ast.IntLit:
+        return Value(Type.INT, expr.value)
+    if kind in _CALLS:  # a query has a value only over a local state (``eval_vector``)
+        return None
     return _eval(expr, ctx, None)
 
 
