@@ -44,6 +44,17 @@ def test_assembler_errors_name_the_line() -> None:
         assemble("a: NOP\na: NOP\n")
 
 
+@pytest.mark.parametrize("other_break", ["\f", "\v", "\x1c", "\x1d", "\x1e", "\x85", "\u2028", "\u2029"])
+@pytest.mark.parametrize("newline", ["\n", "\r\n", "\r"])
+def test_assembler_lines_are_the_lsp_lines(other_break: str, newline: str) -> None:
+    """Only \\r\\n, \\r and \\n end a line (the project's one definition, the LSP's): a form feed
+    or U+2028 in a comment stays in the comment, and errors name the line an editor shows."""
+    text = f"NOP ; a comment{other_break}GOTO nowhere{newline}NOP{newline}"
+    assert assemble(text) == assemble("NOP\nNOP\n")
+    with pytest.raises(AssemblyError, match="line 3"):
+        assemble(f"NOP ; x{other_break}y{newline}NOP{newline}FLY 3{newline}")
+
+
 def test_every_instruction_assembles_to_its_size() -> None:
     for ins in INSTRUCTIONS:
         operands = " ".join("4" if k == "dir" else "0" if k == "zero" else "1" for k in ins.operands)

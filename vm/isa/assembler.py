@@ -26,6 +26,11 @@ SYMBOLS.update({f"EVENT_PROXIMITY_{k}": k for k in range(8)})
 _LABEL = re.compile(r"^([A-Za-z_][A-Za-z_0-9.]*):")
 
 
+# The project's one definition of a line (the LSP's, rdcd_core.source): \r\n, \r or \n; form feed,
+# U+2028 and the other breaks of str.splitlines are ordinary characters (in a comment, say).
+_LINE_BREAK = re.compile("\r\n|\r|\n")
+
+
 class AssemblyError(ValueError):
     pass
 
@@ -44,7 +49,7 @@ def _parse(text: str) -> tuple[list[_Line], dict[str, int]]:
     pending: list[tuple[str, int]] = []
     labels: dict[str, int] = {}
     offset = 0
-    for number, raw in enumerate(text.splitlines(), 1):
+    for number, raw in enumerate(_LINE_BREAK.split(text), 1):
         line = re.split(r"[;#]", raw, maxsplit=1)[0].strip()
         while (m := _LABEL.match(line)) is not None:
             pending.append((m.group(1), number))
