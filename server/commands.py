@@ -182,6 +182,9 @@ async def _simulate(ls: Any, uri: str, text: str, options: dict[str, str], work:
     except (OSError, ValueError) as error:
         progress.end("failed")
         raise RequestFailed(f"cannot start the simulator: {error}") from None
+    except asyncio.CancelledError:  # while the child starts (asyncio kills it): as below
+        progress.end("cancelled")
+        raise JsonRpcRequestCancelled("simulation cancelled") from None
     started = time.monotonic()
     try:
         communicate = asyncio.ensure_future(process.communicate())
