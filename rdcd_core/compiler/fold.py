@@ -12,13 +12,11 @@ from rdcd_core.compiler.geometry import facing
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES
 from rdcd_core.operators import BINARY, UNARY
 from rdcd_core.semantics.model import Value
+from rdcd_core.semantics.walk import CALLS
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
 
 LOCAL_QUERIES = ("center_position", "total_connected", "connected")
-
-
-_CALLS = (ast.SelfCall, ast.FunctionCall, ast.GlobalCall)
 
 
 def fold(expr: ast.Node, ctx: Context) -> Value | None:
@@ -26,7 +24,7 @@ def fold(expr: ast.Node, ctx: Context) -> Value | None:
     kind = type(expr)
     if kind is ast.IntLit:
         return Value(Type.INT, expr.value)
-    if kind in _CALLS:  # a query has a value only over a local state (``eval_vector``)
+    if kind in CALLS:  # a query has a value only over a local state (``eval_vector``)
         return None
     return _eval(expr, ctx, None)
 

@@ -22,7 +22,7 @@ def assemble(code: list[Item]) -> tuple[bytes, list[SourceEntry]]:
     tail_entries: list[SourceEntry] = []
     ranges: dict[int, tuple[int, int]] = {}
     placed: dict[bytes, int] = {}
-    main_size = offset  # code_size(code)
+    main_size = offset  # the main code's size, summed above
     for body in bodies_of(code):
         ranges[id(body)] = _place(body, main_size, tail, tail_entries, placed)
     entries: list[SourceEntry] = []

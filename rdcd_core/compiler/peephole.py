@@ -56,7 +56,7 @@ def optimise(code: list[Item]) -> list[Item]:
 
 def _same_items(before: list[Item], after: list[Item]) -> bool:
     """The same items in the same order. A pass makes a new instruction only where it changes the
-    code (a new operation or target, never an equal copy), so this is "a round changed nothing"."""
+    code (a new operation or target, never an equal copy), so this is "the pass changed nothing"."""
     return len(before) == len(after) and all(map(is_, before, after))
 
 

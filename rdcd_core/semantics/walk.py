@@ -6,7 +6,8 @@ from collections.abc import Iterator
 
 from rdcd_core.syntax import ast
 
-_CALLS = (ast.SelfCall, ast.FunctionCall, ast.GlobalCall)
+#: the call nodes (their arguments are their children)
+CALLS = (ast.SelfCall, ast.FunctionCall, ast.GlobalCall)
 
 
 def expr_nodes(expr: ast.Arg) -> Iterator[ast.Arg]:
@@ -24,7 +25,7 @@ def expr_nodes(expr: ast.Arg) -> Iterator[ast.Arg]:
             push(node.operand)
         elif kind is ast.Paren:
             push(node.expr)
-        elif kind in _CALLS:
+        elif kind in CALLS:
             stack.extend(reversed([a for a in node.args if type(a) is not ast.Block]))
 
 
@@ -40,7 +41,7 @@ def code_nodes(node: ast.Stmt | ast.Arg) -> Iterator[ast.Stmt | ast.Arg]:
         if kind is ast.Binary:
             push(current.right)
             push(current.left)
-        elif kind in _CALLS:
+        elif kind in CALLS:
             stack.extend(reversed(current.args))
         elif kind is ast.IfStmt:
             if current.else_body is not None:

@@ -68,10 +68,8 @@ def forget_scheduler_history(dask_scheduler: Any) -> None:
       task's group and of the spans holding the groups it depends on, and spans live as long as the
       scheduler (distributed 2026.8): those lists grow by an entry per run. Duplicates say nothing:
       keep one of each.
-    - ``dask.utils.key_split`` caches up to 100,000 keys, each of ours seen once: clear it (a cache).
+    - The key cache, as on the workers (``forget_worker_history``).
     """
-    from dask.utils import key_split
-
     spans = getattr(dask_scheduler.extensions.get("spans"), "spans", {})
     ours = [group for name, group in list(dask_scheduler.task_groups.items())
             if isinstance(name, str) and name.startswith(TASK_PREFIX)]
@@ -85,11 +83,12 @@ def forget_scheduler_history(dask_scheduler: Any) -> None:
                 if collection not in distinct:
                     distinct.append(collection)
             metadata["collections"][:] = distinct
-    key_split.cache_clear()
+    forget_worker_history()
 
 
 def forget_worker_history() -> None:
-    """Run on each worker (``client.run``): its ``key_split`` cache too holds every key it ran."""
+    """Run on each worker (``client.run``), and on the scheduler by ``forget_scheduler_history``:
+    ``dask.utils.key_split`` caches up to 100,000 keys, each of ours seen once; clear it (a cache)."""
     from dask.utils import key_split
 
     key_split.cache_clear()
