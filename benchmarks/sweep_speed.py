@@ -146,15 +146,29 @@ def lattice_memory(folder: Path, runs: int, workers: int) -> None:
                   f"{last[column] / 1e6:.1f} MB, {growth / 1024:+.3f} KB per run")
 
 
+def positive(text: str) -> int:
+    """An argparse type: a whole number of at least 1 (else a usage error, not a traceback)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    return value
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=8)
-    parser.add_argument("--lattice-runs", type=int, default=10_000)
-    parser.add_argument("--lattice-workers", type=int, default=2,
+    parser.add_argument("--runs", type=positive, default=8)
+    parser.add_argument("--lattice-runs", type=positive, default=10_000,
+                        help=f"at most {sweep.MAX_RUNS:,}, what a sweep takes at once")
+    parser.add_argument("--lattice-workers", type=positive, default=2,
                         help="workers of the lattice sweep (1: in this process, without Dask)")
     parser.add_argument("--skip-lattice", action="store_true")
     parser.add_argument("--skip-throughput", action="store_true")
     args = parser.parse_args()
+    if args.lattice_runs > sweep.MAX_RUNS:
+        parser.error(f"--lattice-runs: at most {sweep.MAX_RUNS:,}")
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}, load average {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory(prefix="sweep-speed-") as tmp:
