@@ -192,16 +192,20 @@ class _Printer:
 
     # -- program ----------------------------------------------------------------------------
     def run(self) -> str:
-        items: list[ast.RoleDecl | ast.Deployment] = list(self.program.roles)
+        items: list[ast.RoleDecl | ast.StateDecl | ast.Deployment] = sorted(
+            [*self.program.roles, *self.program.states], key=lambda item: item.span.start)
         if self.program.deployment is not None:
             items.append(self.program.deployment)
         for position, item in enumerate(items):
-            if position > 0:
+            previous = items[position - 1] if position > 0 else None
+            if position > 0 and not (isinstance(item, ast.StateDecl) and isinstance(previous, ast.StateDecl)):
                 self._blank()
             self.leading(item.span.start, 0)
             self.separate(item.span.start)
             if isinstance(item, ast.RoleDecl):
                 self.role(item)
+            elif isinstance(item, ast.StateDecl):
+                self.line(f"state {item.name.text} := {expr(item.value)};", item.span.end, 0)
             else:
                 self.deployment(item)
         self.leading(len(self.text) + 1, 0)
@@ -242,13 +246,16 @@ class _Printer:
             self.line(f"abstract constant {names};", member.span.end, 1)
         elif isinstance(member, ast.ConstantDef):
             self.line(f"constant {member.name.text} := {expr(member.value)};", member.span.end, 1)
+        elif isinstance(member, ast.StateDecl):
+            self.line(f"state {member.name.text} := {expr(member.value)};", member.span.end, 1)
         elif isinstance(member, ast.Invariant):
             self.line(expr(member.expr) + ";", member.span.end, 1)
         else:
             self.method(member)
 
     def method(self, method: ast.MethodDecl) -> None:
-        words = [m.keyword for m in method.modifiers] + [method.name.text + "()"]
+        params = ", ".join(param.text for param in method.params)
+        words = [m.keyword for m in method.modifiers] + [f"{method.name.text}({params})"]
         head = " ".join(words)
         if method.body is None:
             self.line(head + ";", method.span.end, 1)
@@ -276,6 +283,8 @@ class _Printer:
             self.line(prefix + ";", statement.span.end, depth)
         elif isinstance(statement, ast.CallStmt):
             self.call_statement(statement, depth, prefix)
+        elif isinstance(statement, ast.AssignStmt):
+            self.line(prefix + inline_statement(statement), statement.span.end, depth)
         else:
             self.if_statement(statement, depth, prefix)
 
@@ -341,6 +350,10 @@ def expr(node: ast.Arg) -> str:
         return f"({expr(node.expr)})"
     if isinstance(node, ast.Block):
         return inline_block(node)
+    if isinstance(node, ast.NeighbourValues):
+        source = "children" if node.children else "neighbours"
+        where = f"({expr(node.where)})" if node.where is not None else ""
+        return f"{source}{where}.{node.name.text}"
     if isinstance(node, ast.SelfCall):
         if not node.has_parens:
             return "self." + node.name.text
@@ -368,6 +381,8 @@ def inline_statement(statement: ast.Stmt) -> str:
         return ";"
     if isinstance(statement, ast.CallStmt):
         return expr(statement.call) + ";"
+    if isinstance(statement, ast.AssignStmt):
+        return f"{statement.name.text} := {expr(statement.value)};"
     text = f"if ({expr(statement.condition)}) {inline_statement(statement.then_body)}"
     if statement.else_body is not None:
         text += " else " + inline_statement(statement.else_body)

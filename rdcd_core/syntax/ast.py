@@ -106,8 +106,20 @@ class GlobalCall:
     span: Span
 
 
+@fast_init
+@dataclass(frozen=True, slots=True)
+class NeighbourValues:
+    """``neighbours.s``, ``neighbours(where).s`` or ``children.s``: the values of module state ``s``
+    that neighbours published, an argument of ``min``, ``max``, ``count`` and ``sum``."""
+
+    name: Name
+    where: Expr | None  # a direction or a connector number; None for every neighbour
+    children: bool  # only the neighbours whose parent in the structure's tree is this module
+    span: Span
+
+
 Call = Union[SelfCall, FunctionCall, GlobalCall]
-Expr = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall]
+Expr = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall, NeighbourValues]
 
 # ----------------------------------------------------------------------------- statements
 
@@ -142,8 +154,18 @@ class IfStmt:
     else_span: Span | None = None  # the 'else' keyword
 
 
-Stmt = Union[Block, EmptyStmt, CallStmt, IfStmt]
-Arg = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall, Block]
+@fast_init
+@dataclass(frozen=True, slots=True)
+class AssignStmt:
+    """``name := expr;``: a new value for a state."""
+
+    name: Name
+    value: Expr
+    span: Span  # includes the trailing ';'
+
+
+Stmt = Union[Block, EmptyStmt, CallStmt, IfStmt, AssignStmt]
+Arg = Union[IntLit, NameRef, Unary, Binary, Paren, SelfCall, FunctionCall, GlobalCall, NeighbourValues, Block]
 
 # ----------------------------------------------------------------------------- members
 
@@ -161,6 +183,16 @@ class AbstractConstants:
 @dataclass(frozen=True, slots=True)
 class ConstantDef:
     """``constant a := expr;``"""
+
+    name: Name
+    value: Expr
+    span: Span
+
+
+@fast_init
+@dataclass(frozen=True, slots=True)
+class StateDecl:
+    """``state s := expr;``: module state at the top level, role state in a role."""
 
     name: Name
     value: Expr
@@ -198,6 +230,8 @@ class MethodDecl:
     modifiers: tuple[Modifier, ...]
     body: Block | None  # None for `abstract m();`
     span: Span
+    params: tuple[Name, ...] = ()
+    bad_params: tuple[Span, ...] = ()  # parameters that are not plain names (the checker reports them)
 
     @property
     def is_abstract(self) -> bool:
@@ -211,7 +245,7 @@ class MethodDecl:
         return MethodKind.PLAIN
 
 
-Member = Union[AbstractConstants, ConstantDef, Invariant, MethodDecl]
+Member = Union[AbstractConstants, ConstantDef, StateDecl, Invariant, MethodDecl]
 
 # ----------------------------------------------------------------------------- program
 
@@ -243,6 +277,7 @@ class Program:
     deployment: Deployment | None
     span: Span
     comments: tuple[Comment, ...] = field(default=())
+    states: tuple[StateDecl, ...] = field(default=())  # module state (top level)
 
 
 Node = Any  # any of the dataclasses above
@@ -255,7 +290,8 @@ def unparen(expr: Expr) -> Expr:
     return expr
 
 
-_NOT_CHILDREN = frozenset({"span", "op_span", "header_span", "abstract_span", "else_span", "comments"})
+_NOT_CHILDREN = frozenset({"span", "op_span", "header_span", "abstract_span", "else_span", "comments",
+                           "bad_params"})
 _SCALAR_TYPES = frozenset({"str", "int", "bool"})  # annotations of fields that never hold a node
 _CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
 

@@ -91,8 +91,9 @@ class AstBuilder:
 
     def start(self, c: list) -> tuple:
         roles = tuple(x for x in c if isinstance(x, ast.RoleDecl))
+        states = tuple(x for x in c if isinstance(x, ast.StateDecl))
         deployment = c[-1] if c and isinstance(c[-1], ast.Deployment) else None
-        return roles, deployment
+        return roles, deployment, states
 
     def role(self, c: list) -> ast.RoleDecl:
         abstract, role_kw, name, sup, lbrace = c[0], c[1], c[2], c[3], c[4]
@@ -123,13 +124,19 @@ class AstBuilder:
     def constant_def(self, c: list) -> ast.ConstantDef:
         return ast.ConstantDef(_name(c[1]), c[3], _span(c[0], c[4]))
 
+    def state_decl(self, c: list) -> ast.StateDecl:
+        return ast.StateDecl(_name(c[1]), c[3], _span(c[0], c[4]))
+
     def invariant(self, c: list) -> ast.Invariant:
         return ast.Invariant(c[0], _span(c[0], c[1]))
 
     def method(self, c: list) -> ast.MethodDecl:
-        modifiers = tuple(c[:-4])
+        modifiers = tuple(c[:-5])
+        args = c[-3] if isinstance(c[-3], list) else []
+        params = tuple(arg.name for arg in args if isinstance(arg, ast.NameRef))
+        bad = tuple(arg.span for arg in args if not isinstance(arg, ast.NameRef))
         body = c[-1] if isinstance(c[-1], ast.Block) else None
-        return ast.MethodDecl(_name(c[-4]), modifiers, body, _span(c[0], c[-1]))
+        return ast.MethodDecl(_name(c[-5]), modifiers, body, _span(c[0], c[-1]), params, bad)
 
     def modifier(self, c: list) -> ast.Modifier:
         return ast.Modifier(c[0].value, Span(c[0].start, c[0].end))
@@ -145,6 +152,9 @@ class AstBuilder:
 
     def call_stmt(self, c: list) -> ast.CallStmt:
         return _nested(ast.CallStmt(c[0], _span(c[0], c[1])), (c[0],))
+
+    def assign_stmt(self, c: list) -> ast.AssignStmt:
+        return _nested(ast.AssignStmt(_name(c[0]), c[2], _span(c[0], c[3])), (c[2],))
 
     def if_stmt(self, c: list) -> ast.IfStmt:
         else_kw = c[5] if len(c) > 6 else None
@@ -203,6 +213,11 @@ class AstBuilder:
     def name_ref(self, c: list) -> ast.NameRef:
         name = _name(c[0])
         return ast.NameRef(name, name.span)
+
+    def neighbour_values(self, c: list) -> ast.NeighbourValues:
+        where = c[2] if len(c) == 6 else None
+        node = ast.NeighbourValues(_name(c[-1]), where, c[0].type == "CHILDREN", _span(c[0], c[-1]))
+        return _nested(node, (where,)) if where is not None else node
 
     def paren(self, c: list) -> ast.Paren:
         return _nested(ast.Paren(c[1], _span(c[0], c[2])), (c[1],))

@@ -17,9 +17,9 @@ TOKEN_TEXT = {
     "LE": "'<='", "GE": "'>='", "LT": "'<'", "GT": "'>'", "PLUS": "'+'", "MINUS": "'-'",
     "BANG": "'!'", "NAME": "a name", "INT": "a number", "$END": "the end of the file",
 }
-EXPRESSION_START = frozenset({"NAME", "INT", "SELF", "LPAR", "MINUS", "BANG"})
+EXPRESSION_START = frozenset({"NAME", "INT", "SELF", "LPAR", "MINUS", "BANG", "NEIGHBOURS", "CHILDREN"})
 OPERATORS = frozenset({"OR", "AND", "EQ", "NE", "LE", "GE", "LT", "GT", "PLUS", "MINUS"})
-MEMBER_START = frozenset({"ABSTRACT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND"})
+MEMBER_START = frozenset({"ABSTRACT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND", "STATE"})
 _COMPARISONS = frozenset({"<", ">", "<=", ">="})
 
 
