@@ -27,6 +27,7 @@ class Primitive:
     params: tuple[Param, ...]
     result: Type
     doc: str
+    aggregate: bool = False  # also takes one argument: the neighbours' values of a state
 
     @property
     def is_query(self) -> bool:
@@ -91,6 +92,17 @@ PRIMITIVES: tuple[Primitive, ...] = (
               "neighbours are notified both times."),
     Primitive("setLed", _S, (_p("v", Type.INT),), Type.VOID,
               "Show v on the module's LEDs (debugging)."),
+    Primitive("min", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
+              "The smaller of a and b; min(neighbours.s): the smallest value of module state s that a "
+              "neighbour published (127 when none has).", aggregate=True),
+    Primitive("max", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
+              "The larger of a and b; max(neighbours.s): the largest value of module state s that a "
+              "neighbour published (-128 when none has).", aggregate=True),
+    Primitive("count", _F, (_p("v", Type.VALUES),), Type.INT,
+              "How many neighbours have published a value of the state: count(neighbours.s)."),
+    Primitive("sum", _F, (_p("v", Type.VALUES),), Type.INT,
+              "The sum of the neighbours' published values of the state, saturated to -128..127: "
+              "sum(children.s)."),
 )
 
 SELF_PRIMITIVES: dict[str, Primitive] = {p.name: p for p in PRIMITIVES if p.form is CallForm.SELF}

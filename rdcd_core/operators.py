@@ -2,7 +2,7 @@
 conflict analysis and the compiler's folding all read (DESIGN.md rule 1).
 
 Values are the DCD-VM's: signed bytes. ``apply`` computes what the VM computes: ``+``, ``-`` and
-negation wrap at 8 bits like its ADD, SUB and NEGATE (``vm.isa.opcodes.signed_byte``); comparisons
+negation saturate at -128..127 like its ADD and SUB (``vm.isa.opcodes.saturated``); comparisons
 give 1 or 0 like its GREATER, LESSER and EQUALS; ``&&``, ``||`` and ``!`` take any non-zero value as
 true, like its conditional jumps. ``exact`` is the mathematical result before the wrap: the checker
 folds constants with it, since a constant outside -128..127 is an error rather than a wrapped value.
@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from rdcd_core.types import Type
-from vm.isa.opcodes import signed_byte
+from vm.isa.opcodes import saturated
 
 
 @dataclass(frozen=True, slots=True)
@@ -28,7 +28,7 @@ class BinaryOperator:
     def apply(self, a: int, b: int) -> int:
         """The value the VM computes for ``a op b``."""
         value = self.exact(a, b)
-        return signed_byte(value) if self.result is Type.INT else value
+        return saturated(value) if self.result is Type.INT else value
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,7 +39,7 @@ class UnaryOperator:
 
     def apply(self, a: int) -> int:
         value = self.exact(a)
-        return signed_byte(value) if self.operand is Type.INT else value
+        return saturated(value) if self.operand is Type.INT else value
 
 
 BINARY: dict[str, BinaryOperator] = {op.symbol: op for op in (

@@ -15,6 +15,7 @@ class Type(StrEnum):
     EVENT = "event"
     ROLE = "role"
     BLOCK = "block"
+    VALUES = "values"  # the values of a module state that the neighbours published
     VOID = "void"
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from operator import attrgetter
 
-from rdcd_core.semantics import conflicts, deployment, limits, members
+from rdcd_core.semantics import conflicts, deployment, limits, members, states
 from rdcd_core.semantics.bodies import check_bodies
 from rdcd_core.semantics.constants import fold_constants
 from rdcd_core.semantics.context import Context
@@ -19,11 +19,16 @@ def run(program: ast.Program) -> Model:
     model = Model(program, {}, [], [])
     ctx = Context(model)
     build_roles(ctx, program)
+    states.declare_module_states(ctx)
     members.copy_down(ctx)
     fold_constants(ctx)
+    states.fold_initials(ctx)
+    states.check_parameters(ctx)
+    states.check_shadowing(ctx)
     members.check_missing_definitions(ctx)
     children = members.children_map(ctx)
     check_bodies(ctx, children)
+    states.layout(ctx)
     check_recursion(ctx)
     check_inlined_scoping(ctx)
     seen = deployment.check_deployment(ctx)

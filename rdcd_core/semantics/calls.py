@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES, Primitive, lookup_function, lookup_self
-from rdcd_core.semantics import codes, expressions, scoping
+from rdcd_core.semantics import codes, expressions, scoping, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
 from rdcd_core.semantics.model import Value
@@ -49,10 +49,7 @@ def _self_call(env: Env, call: ast.SelfCall) -> Result:
         _missing_parens(env, call, f"'{name}' is a method, not a query; write 'self.{name}()'")
     if env.constant is not None:
         _not_constant(env, call)
-    if call.args:
-        env.ctx.report(codes.ARG_COUNT, call.span,
-                       f"method '{name}' takes no arguments; remove them")
-        _check_extra_args(env, call.args)
+    _check_method_args(env, call, method.decl, f"method '{name}'")
     if method.kind is not ast.MethodKind.PLAIN:
         hint = f"call it with '{method.owner}.{name}()'" if method.kind is ast.MethodKind.COMMAND \
             else "only plain methods can be called; move the code into a plain method"
@@ -98,7 +95,7 @@ def _function_call(env: Env, call: ast.FunctionCall) -> Result:
             suffix, fixes = did_you_mean(name, FUNCTIONS, call.name.span)
             env.ctx.report(codes.UNKNOWN_FUNCTION, call.name.span,
                            f"unknown function '{name}'{suffix}" +
-                           ("" if suffix else "; the functions are sizeof and connected_role"),
+                           ("" if suffix else "; the functions are " + ", ".join(FUNCTIONS)),
                            fixes=fixes)
         _check_extra_args(env, call.args)
         return None, None
@@ -141,10 +138,30 @@ def _global_call(env: Env, call: ast.GlobalCall) -> Result:
                        related=(diag.Related(method.decl.name.span, f"'{name}' is declared here"),))
     else:
         env.ctx.reference(call.name, "command", f"{method.owner}.{name}")
-    if call.args:
-        env.ctx.report(codes.ARG_COUNT, call.span, f"command '{name}' takes no arguments")
+    if method is not None and method.kind is ast.MethodKind.COMMAND:
+        _check_method_args(env, call, method.decl, f"command '{role.name}.{name}'")
+    else:
         _check_extra_args(env, call.args)
     return Type.VOID, None
+
+
+def _check_method_args(env: Env, call: ast.SelfCall | ast.GlobalCall, decl: ast.MethodDecl,
+                       what: str) -> None:
+    """Arguments of a method or command: as many as it has parameters, each an int."""
+    params = decl.params
+    if len(call.args) != len(params):
+        wanted = "no arguments" if not params else \
+            f"{len(params)} argument{'s' if len(params) != 1 else ''} ({', '.join(p.text for p in params)})"
+        env.ctx.report(codes.ARG_COUNT, call.span, f"{what} takes {wanted}, not {len(call.args)}")
+    for index, arg in enumerate(call.args):
+        if index >= len(params) or isinstance(arg, ast.Block):
+            _check_extra_args(env, (arg,))
+            continue
+        type_, _ = expressions.check_expr(env, arg)
+        if type_ is not None and type_ is not Type.INT:
+            env.ctx.report(codes.ARG_TYPE, arg.span,
+                           f"argument '{params[index].text}' of {what} must be an int, not "
+                           f"{expressions.a_type(type_)}")
 
 
 def _check_extra_args(env: Env, args: tuple[ast.Arg, ...]) -> None:
@@ -164,6 +181,10 @@ def _check_extra_args(env: Env, args: tuple[ast.Arg, ...]) -> None:
 def _check_args(env: Env, call: ast.SelfCall | ast.FunctionCall, primitive: Primitive) -> Result:
     params = primitive.params
     args = call.args
+    if len(args) == 1 and isinstance(ast.unparen(args[0]), ast.NeighbourValues) and (
+            primitive.aggregate or (params and params[0].type is Type.VALUES)):
+        states.check_values(env, ast.unparen(args[0]))  # type: ignore[arg-type]
+        return primitive.result, None
     if len(args) != len(params):
         expected = f"{len(params)} argument{'s' if len(params) != 1 else ''}"
         env.ctx.report(codes.ARG_COUNT, call.span,

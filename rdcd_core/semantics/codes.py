@@ -186,3 +186,46 @@ NEVER_HOLDS = define_code(
 DEAD_ROLE = define_code(
     "W504", _W, "a role is never deployed nor used",
     "role A { }\nrole Unused { }\ndeployment { A }")
+
+# ----------------------------------------------------------------------------- E7xx state
+NOT_A_STATE = define_code(
+    "E701", _E, "an assignment to a name that is not a state",
+    "role A { constant k := 1; startup s() { k := 2; } }\ndeployment { A }")
+UNKNOWN_STATE = define_code(
+    "E702", _E, "an assignment to an unknown state",
+    "role A { startup s() { hops := 1; } }\ndeployment { A }")
+OTHER_ROLES_STATE = define_code(
+    "E703", _E, "role state used outside the role that declares it (and its sub-roles)",
+    "role A { state seen := 0; }\nrole B { startup s() { seen := 1; } }\ndeployment { A, B }")
+DUPLICATE_STATE = define_code(
+    "E704", _E, "module state declared twice",
+    "state hops := 0;\nstate hops := 1;\nrole A { }\ndeployment { A }")
+BAD_INITIAL_VALUE = define_code(
+    "E705", _E, "the initial value of a state is not a constant int",
+    "state hops := self.z();\nrole A { }\ndeployment { A }")
+NOT_PUBLISHED = define_code(
+    "E706", _E, "neighbours' values of something that is not module state",
+    "role A { state seen := 0; startup s() { seen := count(neighbours.seen); } }\ndeployment { A }")
+VALUES_OUT_OF_PLACE = define_code(
+    "E707", _E, "neighbours' values are used other than as the argument of min, max, count or sum",
+    "state hops := 0;\nrole A { startup s() { hops := neighbours.hops; } }\ndeployment { A }")
+BAD_NEIGHBOUR_FILTER = define_code(
+    "E708", _E, "neighbours(...) takes a direction or a connector number 0..7",
+    "state hops := 0;\nrole A { startup s() { hops := sum(neighbours(9).hops); } }\ndeployment { A }")
+MIXIN_STATE = define_code(
+    "E709", _E, "a mixin cannot declare state (it plays on its base role's state)",
+    "role W { }\nrole M modifies W { state n := 0; }\ndeployment { W }")
+BAD_PARAMETER = define_code(
+    "E710", _E,
+    "a parameter that is not a single new name, or more parameters than the method kind takes",
+    "role A { command go(a, b) { } }\ndeployment { A }")
+STATE_TOO_MANY = define_code(
+    "E720", _E,
+    "more than 32 states, or more than 8 module states read by neighbours (the VM's state memory)",
+    "".join(f"state s{k} := 0;\n" for k in range(33)) + "role A { }\ndeployment { A }")
+SHADOWS = define_code(
+    "W701", _W, "a name hides a state, constant or parameter of the same name",
+    "state speed := 1;\nrole A { state speed := 2; }\ndeployment { A }")
+UNUSED_STATE = define_code(
+    "W702", _W, "a state is never read",
+    "state hops := 0;\nrole A { startup s() { hops := 1; } }\ndeployment { A }")

@@ -33,6 +33,8 @@ class Context:
         # roles the code observes at run time (connected_role, Role.cmd()) and mixins it assumes
         self.observed_roles: dict[str, ast.Name] = {}
         self.assumed_mixins: dict[str, ast.Name] = {}
+        self.read_states: set[int] = set()  # ids of the StateSymbols read somewhere
+        self.written_states: set[int] = set()
 
     # -- diagnostics -------------------------------------------------------------------
     def report(self, code: str, span: Span, message: str, *,

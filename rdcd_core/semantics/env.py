@@ -20,6 +20,7 @@ class Env:
     constant: str | None = None  # folding this constant's definition: no run-time calls
     method: ast.MethodDecl | None = None  # the enclosing method
     in_assume: bool = False
+    in_handler: bool = False  # a handleEvent block: runs later, without the method's parameters
 
     def lookup_constant(self, name: str) -> tuple[ConstantSymbol | None, int]:
         """The constant and how many of the mixins hold it (-1: the base role; mixins shadow)."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.operators import BINARY, UNARY
-from rdcd_core.semantics import calls, codes
+from rdcd_core.semantics import calls, codes, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
 from rdcd_core.semantics.model import ConstantSymbol, Value
@@ -35,6 +35,12 @@ def check_expr(env: Env, expr: ast.Expr) -> Result:
                            f"'{expr.name.text}' has no value; it can only be used as a statement")
             return None, None
         return result
+    if isinstance(expr, ast.NeighbourValues):
+        states.check_values(env, expr)
+        env.ctx.report(codes.VALUES_OUT_OF_PLACE, expr.span,
+                       f"'{expr.name.text}' of the neighbours is several values: reduce them to one with "
+                       f"min(…), max(…), count(…) or sum(…)")
+        return None, None
     if isinstance(expr, ast.Block):
         env.ctx.report(codes.BLOCK_NOT_ALLOWED, expr.span,
                        "a block is allowed only as the second argument of handleEvent or assumeRole")
@@ -62,6 +68,9 @@ def _int_literal(env: Env, expr: ast.IntLit, negated: bool) -> Result:
 
 def _name(env: Env, expr: ast.NameRef) -> Result:
     name = expr.name.text
+    state = states.read(env, expr)
+    if state is not None:
+        return state
     symbol, depth = env.lookup_constant(name)
     if symbol is not None:
         env.ctx.reference(expr.name, "constant", env.home_target(name, "constant"))
@@ -80,7 +89,8 @@ def _name(env: Env, expr: ast.NameRef) -> Result:
         return None, None
     if not name:
         return None, None
-    suffix, fixes = did_you_mean(name, [*env.constant_names(), *PREDEFINED_VALUES], expr.name.span)
+    suffix, fixes = did_you_mean(name, [*env.constant_names(), *env.role.states, *env.ctx.model.states,
+                                        *PREDEFINED_VALUES], expr.name.span)
     hint = suffix or f"; declare it as a constant of '{env.home.name}'"
     env.ctx.report(codes.UNKNOWN_NAME, expr.name.span,
                    f"unknown name '{name}'{_unknown_where(env, name)}{hint}", fixes=fixes)

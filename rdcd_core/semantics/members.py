@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.module_api import SELF_PRIMITIVES
-from rdcd_core.semantics import codes
+from rdcd_core.semantics import codes, states
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.model import (
     ROOT_ROLE,
@@ -13,6 +13,7 @@ from rdcd_core.semantics.model import (
     MethodSymbol,
     RoleKind,
     RoleSymbol,
+    StateSymbol,
 )
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -30,9 +31,10 @@ def copy_down(ctx: Context) -> None:
     for symbol in topological_roles(ctx):
         if symbol.decl is None:
             continue
-        own_constants, own_methods, own_invariants = _own_members(ctx, symbol)
+        own_constants, own_methods, own_invariants, own_states = _own_members(ctx, symbol)
         parent = ctx.model.roles.get(symbol.parent) if symbol.parent else None
         if parent is not None:
+            symbol.states.update(parent.states)
             for name, inherited in parent.constants.items():
                 symbol.constants[name] = ConstantSymbol(
                     name, inherited.owner, inherited.declaration, inherited.definition, None)
@@ -45,6 +47,7 @@ def copy_down(ctx: Context) -> None:
             symbol.methods[name] = method
         symbol.constants.update(own_constants)
         symbol.invariants.extend(own_invariants)
+        symbol.states.update(own_states)
 
 
 def check_missing_definitions(ctx: Context) -> None:
@@ -53,20 +56,29 @@ def check_missing_definitions(ctx: Context) -> None:
 
 
 def _own_members(ctx: Context, symbol: RoleSymbol) -> tuple[
-        dict[str, ConstantSymbol], dict[str, MethodSymbol], list[InvariantSymbol]]:
+        dict[str, ConstantSymbol], dict[str, MethodSymbol], list[InvariantSymbol], dict[str, StateSymbol]]:
     decl = symbol.decl
     assert decl is not None
     constants: dict[str, ConstantSymbol] = {}
     methods: dict[str, MethodSymbol] = {}
     invariants: list[InvariantSymbol] = []
+    own_states: dict[str, StateSymbol] = {}
     for member in decl.members:
+        if isinstance(member, ast.StateDecl):
+            if symbol.is_mixin:
+                ctx.report(codes.MIXIN_STATE, member.name.span,
+                           f"mixin '{symbol.name}' cannot declare state: inside assumeRole the module "
+                           f"keeps its base role's state; declare it in '{symbol.modifies}'")
+            elif _unique(ctx, symbol, constants, member.name, "constant", own_states):
+                own_states[member.name.text] = states.role_state(ctx, symbol.name, member)
+            continue
         if isinstance(member, ast.AbstractConstants):
             for name in member.names:
-                if _unique(ctx, symbol, constants, name, "constant"):
+                if _unique(ctx, symbol, constants, name, "constant", own_states):
                     constants[name.text] = ConstantSymbol(name.text, symbol.name, name, None, None)
                     ctx.reference(name, "constant", f"{symbol.name}.{name.text}", True)
         elif isinstance(member, ast.ConstantDef):
-            if _unique(ctx, symbol, constants, member.name, "constant"):
+            if _unique(ctx, symbol, constants, member.name, "constant", own_states):
                 constants[member.name.text] = ConstantSymbol(
                     member.name.text, symbol.name, member.name, member, None)
                 ctx.reference(member.name, "constant", f"{symbol.name}.{member.name.text}", True)
@@ -86,10 +98,11 @@ def _own_members(ctx: Context, symbol: RoleSymbol) -> tuple[
                                            (diag.TextEdit(member.span, ""),)),))
             else:
                 invariants.append(InvariantSymbol(symbol.name, member))
-    return constants, methods, invariants
+    return constants, methods, invariants, own_states
 
 
-def _unique(ctx: Context, symbol: RoleSymbol, table: dict, name: ast.Name, what: str) -> bool:
+def _unique(ctx: Context, symbol: RoleSymbol, table: dict, name: ast.Name, what: str,
+            other: dict | None = None) -> bool:
     if not name.text:
         return False
     if what == "method" and name.text in SELF_PRIMITIVES:
@@ -97,6 +110,8 @@ def _unique(ctx: Context, symbol: RoleSymbol, table: dict, name: ast.Name, what:
                    f"'{name.text}' is a primitive of Module; give the method another name")
         return False
     first = table.get(name.text)
+    if first is None and other is not None:
+        first = other.get(name.text)  # constants and role state share one namespace
     if first is None:
         return True
     first_span = first.declaration.span if isinstance(first, ConstantSymbol) else first.decl.name.span

@@ -56,6 +56,23 @@ class MethodSymbol:
 
 
 @dataclass(slots=True)
+class StateSymbol:
+    """A state: module state (``owner`` None, kept across role changes) or role state (set to its
+    initial value whenever the module takes the role)."""
+
+    name: str
+    owner: str | None  # the role that declares it; None for module state
+    decl: ast.StateDecl
+    initial: int = 0  # the folded initial value
+    index: int = -1  # its byte in the module's state memory (``Model.state_layout``)
+    published: bool = False  # neighbours read it (neighbours.s, children.s): sent on every change
+
+    @property
+    def is_module_state(self) -> bool:
+        return self.owner is None
+
+
+@dataclass(slots=True)
 class InvariantSymbol:
     owner: str
     decl: ast.Invariant
@@ -73,6 +90,7 @@ class RoleSymbol:
     constants: dict[str, ConstantSymbol] = field(default_factory=dict)
     methods: dict[str, MethodSymbol] = field(default_factory=dict)
     invariants: list[InvariantSymbol] = field(default_factory=list)
+    states: dict[str, StateSymbol] = field(default_factory=dict)  # role state, inherited included
 
     @property
     def is_mixin(self) -> bool:
@@ -84,9 +102,11 @@ class RoleSymbol:
 class Reference:
     """A name occurrence resolved to a symbol: for navigation, rename, highlight and hover.
 
-    ``kind`` is one of: role, constant, method, command, primitive, predefined.
+    ``kind`` is one of: role, constant, method, command, primitive, predefined, state, parameter.
     ``target`` is the role name (role), ``Role.member`` (constant, method, command),
-    or the primitive / predefined value name. ``is_definition`` marks declarations.
+    or the primitive / predefined value name; for a state ``Role.name`` (role state) or
+    ``name`` (module state); for a parameter ``Role.method.name``. ``is_definition`` marks
+    declarations.
     """
 
     name: ast.Name
@@ -102,6 +122,14 @@ class Model:
     deployment: list[str]  # deployed role names, in order (valid ones only)
     diagnostics: list[diag.Diagnostic]
     references: list[Reference] = field(default_factory=list)
+    states: dict[str, StateSymbol] = field(default_factory=dict)  # module state
+
+    def all_states(self) -> list[StateSymbol]:
+        """Module state, then every role's own role state (each declaration once)."""
+        found = list(self.states.values())
+        for role in self.roles.values():
+            found += [s for s in role.states.values() if s.owner == role.name]
+        return found
 
     # -- hierarchy queries -------------------------------------------------------------
     def ancestors(self, name: str) -> list[str]:

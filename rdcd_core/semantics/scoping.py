@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from rdcd_core import diagnostics as diag
-from rdcd_core.semantics import calls, codes, expressions
+from rdcd_core.semantics import calls, codes, expressions, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
 from rdcd_core.semantics.model import ROOT_ROLE, RoleSymbol, Value
@@ -30,6 +30,8 @@ def check_statement(env: Env, statement: ast.Stmt) -> None:
                            "use it in a condition or remove the call",
                            fixes=(diag.Fix("remove the statement",
                                            (diag.TextEdit(statement.span, ""),)),))
+    elif isinstance(statement, ast.AssignStmt):
+        states.check_assign(env, statement)
     elif isinstance(statement, ast.IfStmt):
         expressions.check_bool(env, statement.condition, "the condition of 'if'")
         check_statement(env, statement.then_body)
@@ -39,7 +41,7 @@ def check_statement(env: Env, statement: ast.Stmt) -> None:
 
 def handler_env(env: Env) -> Env:
     """A handler block runs later, in the base role: assumed mixins do not apply to it."""
-    return replace(env, mixins=(), in_assume=False)
+    return replace(env, mixins=(), in_assume=False, in_handler=True)
 
 
 def warn_handler_in_assume(env: Env, call: ast.SelfCall | ast.FunctionCall) -> None:

@@ -1,4 +1,4 @@
-"""The conflict analysis computes as the VM does: 8-bit wrapping arithmetic (issue 10). Its witness
+"""The conflict analysis computes as the VM does: saturating 8-bit arithmetic (state, issue 17). Its witness
 is checked on the real interpreter, running the compiled discovery code of each role alone."""
 
 from __future__ import annotations
@@ -57,26 +57,24 @@ def witness(message: str) -> tuple[int, int, int]:
     return int(found.get("x", 0)), int(found.get("y", 0)), int(found.get("z", 0))
 
 
-def test_no_conflict_where_the_sum_wraps_to_negative() -> None:
-    """x + y for x, y >= 90 is 180..254, which the VM wraps to -76..-2: A never holds with B.
-    Before, the analysis added without wrapping and reported 'e.g. x = 90, y = 90'."""
+def test_a_conflict_where_the_sum_saturates() -> None:
+    """x + y for x, y >= 90 is 180..254, which the VM saturates to 127: A holds with B there."""
     a = "role A { self.x() + self.y() > 0; }"
-    assert not holds_on_the_vm(a, (90, 90, 0))  # the old witness was wrong
-    assert holds_on_the_vm(B, (90, 90, 0))
-    assert conflicts(f"{a}\n{B}\ndeployment {{ A, B }}\n") == []
-
-
-def test_a_conflict_that_exists_only_because_the_sum_wraps() -> None:
-    a = "role A { self.x() + self.y() < 0; }"
+    assert holds_on_the_vm(a, (90, 90, 0))
     (message,) = conflicts(f"{a}\n{B}\ndeployment {{ A, B }}\n")
     coords = witness(message)
     assert holds_on_the_vm(a, coords) and holds_on_the_vm(B, coords), message
 
 
-def test_negation_wraps_like_the_vm() -> None:
-    """-(-128) is -128 on the VM (NEGATE wraps): A holds at x = -128, so it conflicts with C there.
-    Before, the analysis negated without wrapping and found A could never hold."""
+def test_no_conflict_that_only_a_wrapping_sum_would_make() -> None:
+    """With 8-bit wrapping, x + y < 0 would hold at x = y = 90; saturated, it never does there."""
+    a = "role A { self.x() + self.y() < 0; }"
+    assert not holds_on_the_vm(a, (90, 90, 0))
+    assert conflicts(f"{a}\n{B}\ndeployment {{ A, B }}\n") == []
+
+
+def test_negation_saturates_like_the_vm() -> None:
+    """-(-128) is 127 on this project's VM (NEGATE saturates): A never holds, so no conflict."""
     a = "role A { self.x() <= -128; -self.x() < 0; }"
-    assert holds_on_the_vm(a, (-128, 0, 0))
-    (message,) = conflicts(f"{a}\nrole C {{ self.x() < 0; }}\ndeployment {{ A, C }}\n")
-    assert witness(message)[0] == -128
+    assert not holds_on_the_vm(a, (-128, 0, 0))
+    assert conflicts(f"{a}\nrole C {{ self.x() < 0; }}\ndeployment {{ A, C }}\n") == []

@@ -9,9 +9,9 @@ from rdcd_core.types import Type
 
 GOOD = {Type.INT: "1", Type.DIR: "UP", Type.EVENT: "EVENT_PROXIMITY_2", Type.ROLE: "M",
         Type.BLOCK: "{ self.sleep(); }", Type.CONNSET: "self.total_connected()",
-        Type.AXIS: "EAST_WEST"}
+        Type.AXIS: "EAST_WEST", Type.VALUES: "neighbours.s"}
 BAD = {Type.INT: "EAST", Type.DIR: "1", Type.EVENT: "UP", Type.ROLE: "3", Type.BLOCK: "1",
-       Type.CONNSET: "1", Type.AXIS: "1"}
+       Type.CONNSET: "1", Type.AXIS: "1", Type.VALUES: "1"}
 
 
 def _good(primitive: Primitive) -> list[str]:
@@ -31,7 +31,7 @@ def _program(primitive: Primitive, args: list[str]) -> str:
         body = f"{call} == EAST_WEST;"
     else:
         body = f"{call} > 0;"
-    return f"role W {{ {body} }}\nrole M modifies W {{ }}\ndeployment {{ W }}"
+    return f"state s := 0;\nrole W {{ {body} }}\nrole M modifies W {{ }}\ndeployment {{ W }}"
 
 
 @pytest.mark.parametrize("primitive", PRIMITIVES, ids=[p.name for p in PRIMITIVES])
