@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
 
-from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE, signed_byte
+from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE, STATE_SLOTS, saturated, signed_byte
 from vm.isa.targets import DEFAULT, Target
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
 from vm.roles import ANY_ROLE
@@ -30,6 +30,7 @@ class Outcome(Enum):
     SLEEP_ROTATIONS = "sleep_rotations"
     ERROR = "error"
     HALT = "halt"  # the module stops (firmware profile): nothing runs or is received any more
+    WAIT = "wait"  # END_WAIT: run again when a value of the module changes
 
 
 @dataclass
@@ -71,6 +72,10 @@ class Machine(Protocol):
     def install_command(self, role: int, command: int, code: bytes) -> None: ...
     def clear_command_queue(self, command: int) -> None: ...
     def set_led(self, value: int) -> None: ...
+    def load_state(self, index: int) -> int: ...
+    def store_state(self, index: int, value: int) -> None: ...
+    def neighbour_values(self, gather: int, where: int) -> int: ...
+    def run_local(self, code: bytes) -> None: ...
     def trace(self, frame: Frame, text: str) -> None: ...
 
 
@@ -87,11 +92,12 @@ _AXIS_OPS = {f"CENTER_POSITION_{AXIS_NAMES[a]}": a for a in AXES}
 _EQUALS = {f"EQUALS_{k}": k for k in range(5)}
 _COORDS = {"COORD_X": 0, "COORD_Y": 1, "COORD_Z": 2}
 _COMPARE = {"GREATER": lambda a, b: a > b, "LESSER": lambda a, b: a < b, "EQUALS": lambda a, b: a == b}
-_ARITH = {"ADD": lambda a, b: a + b, "SUB": lambda a, b: a - b}
+_ARITH = {"ADD": lambda a, b: saturated(a + b), "SUB": lambda a, b: saturated(a - b),
+          "MIN": min, "MAX": max}
 _COORD_CMP = {f"COORD_{c}_{cmp}": (i, cmp == "GREATER") for i, c in enumerate("XYZ")
               for cmp in ("GREATER", "LESSER")}
 _ENDINGS = {"END_TERMINATE": Outcome.TERMINATE, "END_REPEAT": Outcome.REPEAT,
-            "MIGRATE_CONTINUE": Outcome.MIGRATE}
+            "MIGRATE_CONTINUE": Outcome.MIGRATE, "END_WAIT": Outcome.WAIT}
 
 
 def run(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result:
@@ -146,6 +152,12 @@ def _embedded(frame: Frame, start: int, size: int) -> bytes:
     if size == 0 or start + size > len(frame.code):
         raise VMError(f"code range [{start}, {start + size}) outside the program")
     return frame.code[start: start + size]
+
+
+def _state(index: int) -> int:
+    if index >= STATE_SLOTS:
+        raise VMError(f"state {index} is outside the module's {STATE_SLOTS} state bytes")
+    return index
 
 
 def _direction(d: int) -> int:
@@ -248,7 +260,8 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "SIZEOF":
         _push(frame, (_pop(frame) & 0xFF).bit_count(), target)
     elif name == "NEGATE":
-        _push(frame, -_pop(frame), target)
+        value = -_pop(frame)
+        _push(frame, value if target.quirks.negate_wraps else saturated(value), target)
     elif name == "ACTIVATE_DEBUG":
         frame.debug = True
     elif name == "APPLY":
@@ -272,5 +285,16 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "EVAL_COMMAND_STACK_ARG":
         frame.at = at
         m.eval_command(a[0], _pop(frame))
+    elif name == "LOAD_STATE":
+        _push(frame, m.load_state(_state(a[0])), target)
+    elif name == "STORE_STATE":
+        value = _pop(frame)
+        frame.at = at
+        m.store_state(_state(a[0]), value)
+    elif name == "NBR_AGG":
+        _push(frame, m.neighbour_values(a[0], a[1]), target)
+    elif name == "RUN_LOCAL":
+        frame.at = at
+        m.run_local(_embedded(frame, a[0], a[1]))
     # NOP: nothing
     return None

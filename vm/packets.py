@@ -23,7 +23,9 @@ PROGRAM = 1
 COMMAND = 2
 NOTIFY = 3
 ACK = 4
-TYPE_NAMES = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack"}
+VALUE = 5
+TYPE_NAMES = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack", VALUE: "value"}
+VALUE_PARENT = 0x80  # a value packet's flag: the receiver is the sender's parent in the tree
 HEADER_SIZE = 7
 PACKET_BUDGET = 50  # bytes; the hardware IR link became unreliable above this (dcd-vm.md §2)
 
@@ -67,11 +69,21 @@ class AckPacket:
 
 
 @dataclass(frozen=True, slots=True)
+class ValuePacket:
+    """A published state's new value (this project's type 5): body ``index | parent flag, value``."""
+
+    header: Header
+    index: int  # the published state, 0..7
+    to_parent: bool  # the receiver is the sender's parent in the structure's tree
+    value: int
+
+
+@dataclass(frozen=True, slots=True)
 class PacketError:
     message: str
 
 
-Packet = ProgramPacket | CommandPacket | NotifyPacket | AckPacket
+Packet = ProgramPacket | CommandPacket | NotifyPacket | AckPacket | ValuePacket
 
 
 def crc8(data: bytes) -> int:
@@ -96,6 +108,8 @@ def encode(p: Packet) -> bytes:
         return h + bytes((p.role & 0xFF, p.command & 0xFF, p.argument & 0xFF))
     if isinstance(p, NotifyPacket):
         return h + bytes((p.role & 0xFF,))
+    if isinstance(p, ValuePacket):
+        return h + bytes(((p.index & 0x7F) | (VALUE_PARENT if p.to_parent else 0), p.value & 0xFF))
     return h + bytes((p.acked_type & 0xFF, p.checksum & 0xFF))
 
 
@@ -133,6 +147,10 @@ def decode(data: bytes) -> Packet | PacketError:
         if len(body) != 1:
             return PacketError(f"notify packet body of {len(body)} bytes, expected 1")
         return NotifyPacket(h, body[0])
+    if t == VALUE:
+        if len(body) != 2 or body[0] & 0x7F >= 8:
+            return PacketError("value packet body must be 2 bytes: a published state 0..7 and its value")
+        return ValuePacket(h, body[0] & 0x7F, bool(body[0] & VALUE_PARENT), signed_byte(body[1]))
     if len(body) != 2:
         return PacketError(f"ack packet body of {len(body)} bytes, expected 2")
     return AckPacket(h, body[0], body[1])

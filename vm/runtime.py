@@ -35,7 +35,9 @@ from vm import navigation as nav
 from vm.hal import ModuleHal
 from vm.interpreter import Frame, Outcome, Result, run
 from vm.isa.opcodes import (
+    AGGREGATES,
     BUILTIN_COMMANDS,
+    PUBLISHED_SLOTS,
     ROTATE_CCW,
     ROTATE_CW,
     ROTATE_DEGREES,
@@ -43,12 +45,15 @@ from vm.isa.opcodes import (
     STOP,
     USER_COMMAND_BASE,
     USER_COMMAND_NUMBERS,
+    WHERE_CHILDREN,
+    WHERE_CONNECTOR,
+    saturated,
 )
 from vm.isa.targets import DEFAULT, Target
-from vm.packets import NOTIFY
+from vm.packets import NOTIFY, VALUE, ValuePacket, encode, make_header
 from vm.roles import RoleTable
 from vm.runtime_node import MAX_LOG, ModuleNode
-from vm.runtime_store import HANDLER, USER_COMMAND, Slot, StoreFull, Task
+from vm.runtime_store import HANDLER, LOCAL, USER_COMMAND, Slot, StoreFull, Task
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 
 
@@ -74,12 +79,17 @@ class ModuleRuntime(ModuleNode):
         self.programs_run = 0  # received or injected programs that started (each counted once)
         self.runs = 0  # every run started: repeats, handlers and user commands included
         self._notify_id = 0
+        self._value_id = 0
+        self._published: list[int | None] = [None] * PUBLISHED_SLOTS  # last value sent of each
+        self.state_history: list[tuple[float, int, int]] = []  # (t, state, value) on every change
 
     # ---- world interface -------------------------------------------------------------------
     def needs_step(self, events: bool = True) -> bool:
-        """Whether ``step`` has anything to do (received packets, retries, tasks, or — when
-        ``events`` — installed event handlers to poll); a world may skip idle modules."""
-        return not self.halted and bool(self._inbox or self.link.outbox or self.store.tasks
+        """Whether ``step`` has anything to do (received packets, retries, tasks that are not waiting
+        for a value, or — when ``events`` — installed event handlers to poll); a world may skip idle
+        modules."""
+        return not self.halted and bool(self._inbox or self.link.outbox
+                                        or any(not t.waiting for t in self.store.tasks)
                                         or (events and any(v is not None for v in self.store.vectors)))
 
     def stats(self) -> dict[str, int]:
@@ -97,6 +107,7 @@ class ModuleRuntime(ModuleNode):
             while self._inbox:
                 self._handle_packet(*self._inbox.popleft())
             self.link.tick()
+            self._forget_lost_neighbours()
             self._expire_commands()
             self._check_events()
             self._run_tasks()
@@ -160,6 +171,8 @@ class ModuleRuntime(ModuleNode):
             self._finish(task, result)
 
     def _due(self, task: Task, now: float) -> bool:
+        if task.waiting:
+            return False
         if task.wake_time is not None:
             return now >= task.wake_time
         if task.wake_turns is not None:
@@ -178,6 +191,10 @@ class ModuleRuntime(ModuleNode):
             self.store.tasks.remove(task)
             task.frame = None
             self.store.tasks.append(task)
+            return
+        if result.outcome is Outcome.WAIT:
+            task.frame = None
+            task.waiting = True
             return
         self.store.tasks.remove(task)
         if result.outcome is Outcome.MIGRATE and slot is not None:
@@ -252,8 +269,11 @@ class ModuleRuntime(ModuleNode):
                    if mask >> v & 1 and self.roles.is_instance(self.neighbour_roles[v], role))
 
     def set_role_notify(self, role: int) -> None:
+        if role == self.role == 0:
+            return  # a module without a role has nothing new to announce (a re-check found none)
         if role != self.role:
             self.role = role
+            self._values_changed()
             self.role_history.append((self.hal.now(), role))
             self._log("role", {"role": role, "name": self.roles.name(role)})
             if self.observer is not None:
@@ -325,6 +345,86 @@ class ModuleRuntime(ModuleNode):
     def set_led(self, value: int) -> None:
         self.led = value
         self.hal.set_led(value)
+
+    # ---- state (this project's extension) ---------------------------------------------------
+    def load_state(self, index: int) -> int:
+        return self.state[index]
+
+    def store_state(self, index: int, value: int) -> None:
+        old = self.state[index]
+        self.state[index] = value
+        if old != value:
+            self.state_history.append((self.hal.now(), index, value))
+            del self.state_history[:-MAX_LOG]
+            self._values_changed()
+        if index < PUBLISHED_SLOTS and self._published[index] != value:
+            self._published[index] = value
+            self._publish(index, value)
+
+    def _publish(self, index: int, value: int) -> None:
+        if self.position is None or self.axis is None:
+            return
+        self._value_id = (self._value_id + 1) & 0xFF
+        x, y, z = self.position
+        for ch in sorted(self.hal.connected_channels()):
+            if not 0 <= ch <= 7:
+                continue
+            rx, ry, rz, raxis, rvch = nav.receiver(x, y, z, self.axis, self._p2v[ch],
+                                                   ud_offsets_swapped=self.target.quirks.ud_offsets_swapped)
+            header = make_header(VALUE, self._value_id, rx, ry, rz, raxis, rvch)
+            self.link.send(ch, encode(ValuePacket(header, index, ch == self.parent_channel, value)))
+
+    def neighbour_values_of(self, gather: int, where: int) -> list[int]:
+        """The values of published state ``gather & 7`` that the neighbours chosen by ``where``
+        last sent (only neighbours still connected)."""
+        index = gather & 7
+        mask = self.connected_virtual()
+        if where == WHERE_CHILDREN:
+            mask &= sum(1 << v for v in range(8) if self.neighbour_is_child[v])
+        elif where in nav.DIRECTIONS:
+            mask &= self.facing(where)
+        elif WHERE_CONNECTOR <= where < WHERE_CONNECTOR + 8:
+            mask &= 1 << (where - WHERE_CONNECTOR)
+        values = (self.neighbour_cache[v][index] for v in range(8) if mask >> v & 1)
+        return [value for value in values if value is not None]
+
+    def neighbour_values(self, gather: int, where: int) -> int:
+        values = self.neighbour_values_of(gather, where)
+        kind = AGGREGATES[(gather >> 4) & 3]
+        if kind == "min":
+            return min(values, default=127)
+        if kind == "max":
+            return max(values, default=-128)
+        if kind == "count":
+            return len(values)
+        return saturated(sum(values))
+
+    def run_local(self, code: bytes) -> None:
+        if any(s.kind == LOCAL and s.code == code for s in self.store.slots):
+            return
+        try:
+            slot = self.store.add_slot(Slot(code, self._local_id(), LOCAL))
+            try:
+                self.store.queue(Task(slot))
+            except StoreFull:
+                self.store.free_slot(slot)
+                raise
+        except StoreFull as e:
+            self._error(f"RUN_LOCAL: {e}")
+
+    def _values_changed(self) -> None:
+        for task in self.store.tasks:
+            task.waiting = False
+
+    def _forget_lost_neighbours(self) -> None:
+        """A neighbour that is no longer attached: its values and its child mark are forgotten."""
+        connected = self.connected_virtual()
+        for v in range(8):
+            if not connected >> v & 1 and (self.neighbour_is_child[v] or any(
+                    value is not None for value in self.neighbour_cache[v])):
+                self.neighbour_cache[v] = [None] * PUBLISHED_SLOTS
+                self.neighbour_is_child[v] = False
+                self._values_changed()
 
     def trace(self, frame: Frame, text: str) -> None:
         self._log("trace", {"text": text})

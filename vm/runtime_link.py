@@ -29,7 +29,7 @@ import random
 from dataclasses import dataclass
 
 from vm.hal import ModuleHal
-from vm.packets import ACK, NOTIFY, PROGRAM, AckPacket, crc8, encode, make_header, seal
+from vm.packets import ACK, NOTIFY, PROGRAM, VALUE, AckPacket, crc8, encode, make_header, seal
 
 RETRY_INTERVAL = 0.25  # seconds
 MAX_TRIES = 12
@@ -67,6 +67,9 @@ class Link:
             return
         if packet[0] == NOTIFY:
             self.outbox = [p for p in self.outbox if not (p.channel == channel and p.packet[0] == NOTIFY)]
+        elif packet[0] == VALUE:  # a newer value of a state replaces one not yet acknowledged
+            self.outbox = [p for p in self.outbox if not (p.channel == channel and p.packet[0] == VALUE
+                                                          and p.packet[7] & 0x7F == packet[7] & 0x7F)]
         if len(self.outbox) >= MAX_OUTBOX:
             self.outbox.pop(0)
             self.overflows += 1

@@ -33,6 +33,7 @@ from collections.abc import Callable
 from vm import navigation as nav
 from vm.hal import ModuleHal
 from vm.interpreter import Frame
+from vm.isa.opcodes import PUBLISHED_SLOTS, STATE_SLOTS
 from vm.isa.targets import DEFAULT, Target
 from vm.isa.verifier import verify
 from vm.observer import RuntimeObserver
@@ -44,6 +45,7 @@ from vm.packets import (
     NotifyPacket,
     PacketError,
     ProgramPacket,
+    ValuePacket,
     decode,
     header_bytes,
     make_header,
@@ -81,6 +83,15 @@ class ModuleNode:
         self.observer: RuntimeObserver | None = None  # vm.observer: off by default
         self._running: Frame | None = None  # the frame of the run in progress, kept only when observed
         self.neighbour_roles = [0] * 8  # by virtual channel
+        # State (this project's extension): the module's state memory, the last value of each
+        # published state that each neighbour sent (by virtual channel), which neighbours named
+        # this module their parent, and this module's parent: the physical channel of the first
+        # packet it received, which gave it its frame (None on the entry module).
+        self.state = [0] * STATE_SLOTS
+        self.neighbour_cache: list[list[int | None]] = [[None] * PUBLISHED_SLOTS for _ in range(8)]
+        self.neighbour_is_child = [False] * 8
+        self.parent_channel: int | None = None
+        self._value_seq: dict[tuple[int, int], int] = {}  # (physical channel, state) → last id
         self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
         self.link = Link(hal, self.rng, checksum=checksum, acknowledged=not target.quirks.no_acknowledgements)
         self.bad_packets = 0
@@ -143,6 +154,7 @@ class ModuleNode:
             return
         if self.position is None:
             self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
+            self.parent_channel = ch
         if isinstance(p, ProgramPacket):
             if self._accept_program(p.code, h.id, ch, h.vch):
                 self.link.send_ack(ch, raw)
@@ -152,6 +164,9 @@ class ModuleNode:
         elif isinstance(p, NotifyPacket):
             self.link.send_ack(ch, raw)
             self._accept_notify(p, ch)
+        elif isinstance(p, ValuePacket):
+            self.link.send_ack(ch, raw)
+            self._accept_value(p, ch)
 
     def _accept_program(self, code: bytes, ident: int, ch: int | None, vch: int | None) -> bool:
         """Store and queue a program; False when it should be offered again later (no room)."""
@@ -196,7 +211,26 @@ class ModuleNode:
         if last is not None and not 0 < (p.header.id - last) & 0xFF < 128:
             return  # a duplicate or an older notify
         self._notify_seq[ch] = p.header.id
-        self.neighbour_roles[self._p2v[ch]] = p.role
+        v = self._p2v[ch]
+        if self.neighbour_roles[v] != p.role:
+            self.neighbour_roles[v] = p.role
+            self._values_changed()
+
+    def _accept_value(self, p: ValuePacket, ch: int) -> None:
+        key = (ch, p.index)
+        last = self._value_seq.get(key)
+        if last is not None and not 0 < (p.header.id - last) & 0xFF < 128:
+            return  # a duplicate or an older value
+        self._value_seq[key] = p.header.id
+        v = self._p2v[ch]
+        changed = self.neighbour_cache[v][p.index] != p.value or self.neighbour_is_child[v] != p.to_parent
+        self.neighbour_cache[v][p.index] = p.value
+        self.neighbour_is_child[v] = p.to_parent
+        if changed:
+            self._values_changed()
+
+    def _values_changed(self) -> None:
+        """A state or a neighbour's value changed: programs waiting in END_WAIT run again."""
 
     # ---- sending ---------------------------------------------------------------------------
     def _send_all(self, type_: int, ident: int, body: bytes, exclude: int | None) -> None:

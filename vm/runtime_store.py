@@ -13,7 +13,7 @@ from vm.isa.opcodes import PROGRAM_SLOTS, SLOT_BYTES, USER_COMMANDS
 SLOTS = PROGRAM_SLOTS
 QUEUE = 10
 VECTORS = 8
-PROGRAM, HANDLER, USER_COMMAND = "program", "handler", "command"
+PROGRAM, HANDLER, USER_COMMAND, LOCAL = "program", "handler", "command", "local"
 
 
 class StoreFull(Exception):
@@ -39,6 +39,7 @@ class Task:
     frame: Frame | None = None  # None until started; kept while suspended
     wake_time: float | None = None
     wake_turns: float | None = None
+    waiting: bool = False  # END_WAIT: until a value of the module changes
 
 
 @dataclass
@@ -102,7 +103,7 @@ class Store:
         """A run of ``slot`` ended for good: free it unless something still needs it."""
         if slot is None or self._slot_in_use(slot):
             return
-        if slot.kind == PROGRAM:
+        if slot.kind in (PROGRAM, LOCAL):
             self.free_slot(slot)
         elif slot.kind == HANDLER and not any(v is not None and v.slot is slot for v in self.vectors):
             self.free_slot(slot)

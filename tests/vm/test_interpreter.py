@@ -166,10 +166,10 @@ def test_apply_with_a_bad_command_is_an_error_not_a_crash() -> None:
 
 
 def test_stack_ops() -> None:
-    assert stack_of("PUSH 7\nNEGATE\nPUSHC -128\nNEGATE") == [-7, -128]
+    assert stack_of("PUSH 7\nNEGATE\nPUSHC -128\nNEGATE") == [-7, 127]  # saturates
     assert stack_of("PUSHC 0x0F\nSIZEOF\nPUSHC -1\nSIZEOF") == [4, 8]
     assert stack_of("PUSH 3\nPUSH 3\nEQUALS\nPUSH 3\nPUSH 4\nEQUALS") == [1, 0]
-    assert stack_of("PUSH 100\nPUSH 100\nADD\nPUSH 1\nPUSH 3\nSUB") == [-56, -2]
+    assert stack_of("PUSH 100\nPUSH 100\nADD\nPUSH 1\nPUSH 3\nSUB") == [127, -2]  # saturates
     assert stack_of("PUSHC 200\nPUSH 127") == [-56, 127]
     assert stack_of("PUSH_ARGUMENT 0", arg=-5) == [-5]
     assert stack_of("NOP") == []

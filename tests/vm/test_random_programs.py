@@ -19,7 +19,9 @@ STRAIGHT = [i for i in INSTRUCTIONS if Operand.TARGET not in i.operands and Oper
 ENDINGS = [bytes([13]), bytes([14]), bytes([18])]
 OPERAND = {Operand.DIR: st.integers(4, 9), Operand.ROLE: st.sampled_from([0, 1, 2, 255]),
            Operand.EVENT: st.integers(0, 7), Operand.COMMAND: st.sampled_from([1, 2, 3, 4, 5, 128, 129]),
-           Operand.BYTE: st.integers(0, 255), Operand.ZERO: st.just(0)}
+           Operand.BYTE: st.integers(0, 255), Operand.ZERO: st.just(0),
+           Operand.STATE: st.integers(0, 31), Operand.GATHER: st.sampled_from([0, 7, 0x13, 0x21, 0x37]),
+           Operand.WHERE: st.sampled_from([0, 1, 4, 9, 16, 23])}
 
 
 @st.composite

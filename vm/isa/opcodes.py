@@ -20,6 +20,9 @@ class Operand(StrEnum):
     COMMAND = "command"  # command number (1..5 or 128+k)
     BYTE = "byte"  # any byte (signed argument)
     ZERO = "zero"  # a padding operand that must be 0
+    STATE = "state"  # a byte of the module's state memory, 0..STATE_SLOTS-1
+    GATHER = "gather"  # NBR_AGG: aggregate (bits 4-5: min, max, count, sum) and state (bits 0-2)
+    WHERE = "where"  # NBR_AGG: which neighbours (0 all, 1 children, 4..9 a direction, 16+k connector k)
 
 
 @dataclass(frozen=True, slots=True)
@@ -110,12 +113,27 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
     _i(54, "PUSHC", (_O.BYTE,), 0, 1, "push byte"),
     _i(55, "SET_LED", (_O.BYTE,), 0, 0, "show v on the LEDs"),
     _i(56, "EQUALS", (), 2, 1, "pop b, pop a; push b(a = b)", ext=True),
-    _i(57, "ADD", (), 2, 1, "pop b, pop a; push a + b (wraps at 8 bits)", ext=True),
-    _i(58, "SUB", (), 2, 1, "pop b, pop a; push a - b (wraps at 8 bits)", ext=True),
+    _i(57, "ADD", (), 2, 1, "pop b, pop a; push a + b (saturated to -128..127)", ext=True),
+    _i(58, "SUB", (), 2, 1, "pop b, pop a; push a - b (saturated to -128..127)", ext=True),
     _i(59, "SEND_COMMAND_STACK_ARG", (_O.ROLE, _O.COMMAND), 1, 0,
        "like SEND_COMMAND with the argument popped", ext=True),
     _i(60, "EVAL_COMMAND_STACK_ARG", (_O.COMMAND,), 1, 0,
        "like EVAL_COMMAND with the argument popped", ext=True),
+    _i(61, "LOAD_STATE", (_O.STATE,), 0, 1, "push state byte s", ext=True),
+    _i(62, "STORE_STATE", (_O.STATE,), 1, 0,
+       "pop v; state byte s := v; a published state (s < 8) that changed is sent to every neighbour; "
+       "any change wakes the programs waiting in END_WAIT", ext=True),
+    _i(63, "NBR_AGG", (_O.GATHER, _O.WHERE), 0, 1,
+       "push the min (127 if none), max (-128 if none), count or saturated sum of the values of "
+       "published state g & 7 that the neighbours chosen by w last sent", ext=True),
+    _i(64, "MIN", (), 2, 1, "pop b, pop a; push the smaller", ext=True),
+    _i(65, "MAX", (), 2, 1, "pop b, pop a; push the larger", ext=True),
+    _i(66, "RUN_LOCAL", (_O.START, _O.SIZE), 0, 0,
+       "store bytes [start, start+size) of this fragment as a program of this module and queue it "
+       "(nothing if the same code is stored already); it never migrates", ext=True),
+    _i(67, "END_WAIT", (), 0, 0,
+       "end the run; run this program again when a state or a neighbour's published value of this "
+       "module changes", ext=True, no_fallthrough=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -123,6 +141,11 @@ BY_OPCODE: dict[int, Instruction] = {ins.opcode: ins for ins in INSTRUCTIONS}
 BY_NAME: dict[str, Instruction] = {ins.name: ins for ins in INSTRUCTIONS}
 
 PUSH_SMALL_BASE = 128  # byte 128 + v pushes v for 0 <= v <= 127
+
+
+def saturated(value: int) -> int:
+    """``value`` clamped to -128..127: RDCD's arithmetic saturates (a count stays at 127)."""
+    return -128 if value < -128 else 127 if value > 127 else value
 
 
 def signed_byte(value: int) -> int:
@@ -134,6 +157,10 @@ MAX_STACK = 16
 MAX_STEPS_PER_RUN = 255
 SLOT_BYTES = 64  # a program store slot holds at most this many bytes (dcd-vm.md §1)
 PROGRAM_SLOTS = 10  # programs a module stores at once
+STATE_SLOTS = 32  # bytes of state a module holds (values of the program's states)
+PUBLISHED_SLOTS = 8  # states 0..7 are published: neighbours keep the last value each sent
+AGGREGATES = ("min", "max", "count", "sum")  # NBR_AGG's aggregate, bits 4-5 of its first operand
+WHERE_ALL, WHERE_CHILDREN, WHERE_CONNECTOR = 0, 1, 16  # NBR_AGG's second operand (4..9: a direction)
 ROLE_IDS = 14  # a ROLE operand names role 1..ROLE_IDS, 0 (no role) or 255 (any; vm/roles.py)
 
 # The COMMAND operand: the joint's built-in commands, then user command k as USER_COMMAND_BASE + k.

@@ -16,7 +16,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vm.isa.disassembler import PUSH_SMALL, Decoded, disassemble, successors
-from vm.isa.opcodes import BY_OPCODE, COMMANDS, MAX_STACK, SLOT_BYTES, USER_COMMAND_BASE, Operand
+from vm.isa.opcodes import (
+    BY_OPCODE,
+    COMMANDS,
+    MAX_STACK,
+    SLOT_BYTES,
+    STATE_SLOTS,
+    USER_COMMAND_BASE,
+    WHERE_ALL,
+    WHERE_CHILDREN,
+    WHERE_CONNECTOR,
+    Operand,
+)
 from vm.isa.targets import Target
 from vm.navigation import DIRECTIONS
 
@@ -100,6 +111,14 @@ def _check_instruction(d: Decoded, code: bytes, rules: _Rules) -> list[str]:
             errors.append(f"{where}: {d.name}: command {value} is not 1..5 or 128..132")
         elif kind is Operand.ZERO and value != 0:
             errors.append(f"{where}: {d.name}: operand must be 0, got {value}")
+        elif kind is Operand.STATE and value >= STATE_SLOTS:
+            errors.append(f"{where}: {d.name}: state {value} is not one of 0..{STATE_SLOTS - 1}")
+        elif kind is Operand.GATHER and (value & 0xC8):
+            errors.append(f"{where}: {d.name}: {value} is not an aggregate (0..3) and a published "
+                          "state (0..7)")
+        elif kind is Operand.WHERE and not (value in (WHERE_ALL, WHERE_CHILDREN) or value in DIRECTIONS
+                                            or WHERE_CONNECTOR <= value < WHERE_CONNECTOR + 8):
+            errors.append(f"{where}: {d.name}: {value} names no neighbours (0, 1, 4..9 or 16..23)")
     if d.name == "INSTALL_COMMAND" and d.operands[1] < USER_COMMAND_BASE:
         errors.append(f"{where}: INSTALL_COMMAND: command {d.operands[1]} is not a user command (>= 128)")
     return errors
