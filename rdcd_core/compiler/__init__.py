@@ -13,6 +13,7 @@ from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic co
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import invariants, role_mask
 from rdcd_core.compiler.entry import assign_command_numbers
+from rdcd_core.compiler.ir import Ins, Item
 from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit
 from rdcd_core.compiler.lowering import axis_states
 from rdcd_core.compiler.plan import plan
@@ -23,6 +24,7 @@ from rdcd_core.compiler.program import (
     CompiledProgram,
     Fragment,
     RoleEntry,
+    StateEntry,
 )
 from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.compiler.verify import verify_fragments
@@ -54,7 +56,8 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     for ctx in ctxs.values():  # a role's code runs on the axes its invariants allow
         ctx.states = axis_states(model, ctx.role, role_mask(invariants(ctx), ctx, local_only=True))
     # a fragment must fit its packet and a program slot, however large the packets may be
-    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes))
+    prologue = _state_prologue(model, ctxs)
+    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue)
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
@@ -65,8 +68,24 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if text is not None:
         add_source_lines(planner.fragments, LineIndex(text))
     names = [f.name for f in planner.fragments]
+    states = [StateEntry(s.name, s.index, s.initial, s.owner, s.published)
+              for s in sorted(model.all_states(), key=lambda s: s.index)]
     return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found),
-                           target=chosen.name)
+                           target=chosen.name, states=states)
+
+
+def _state_prologue(model: Model, ctxs: dict[str, Context]) -> list[Item]:
+    """Module state that does not start at 0 gets its initial value first thing, in the first
+    fragment every module runs (nothing when no module state needs it)."""
+    code: list[Item] = []
+    first = next(iter(ctxs.values()), None)
+    for state in model.states.values():
+        if state.initial == 0 or first is None:
+            continue
+        code.append(Ins("PUSH", (state.initial,), state.decl.span))
+        first.ext("STORE_STATE", state.decl.span)
+        code.append(Ins("STORE_STATE", (state.index,), state.decl.span))
+    return code
 
 
 def resolve_target(target: Target | str | None, strict_isa: bool = False) -> Target:

@@ -16,6 +16,12 @@ def is_nonnegative(expr: ast.Node, ctx: Context) -> bool:
         isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof")
 
 
+def _reads_state(expr: ast.Node, ctx: Context) -> bool:
+    return any(isinstance(node, ast.NeighbourValues)
+               or (isinstance(node, ast.NameRef) and ctx.state(node.name.text) is not None)
+               for node in ast.walk(expr))
+
+
 def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out: list[Item]) -> None:
     from rdcd_core.compiler import exprgen as g
 
@@ -34,6 +40,12 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
         return
     if op in ("==", "!=") and type_of(left, ctx) is Type.BOOL:
         _bool_equality(left, right, target, when == (op == "=="), ctx, out)
+        return
+    if op in ("==", "!=") and constant is None and ctx.has("EQUALS") and _reads_state(expr, ctx):
+        g.value(left, ctx, out)  # a value read from state: EQUALS instead of reading it twice
+        g.value(right, ctx, out)
+        g.emit(out, "EQUALS", span=span)
+        g.jump_on(when == (op == "=="), target, out, span)
         return
     if constant is not None:
         k = constant.value

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.roletable import RoleTable, application_name
-from rdcd_core.semantics.model import MethodSymbol, Model, Value
+from rdcd_core.semantics.model import MethodSymbol, Model, StateSymbol, Value
 from rdcd_core.source import Span
 from rdcd_core.types import PREDEFINED_VALUES, Type
 from vm.isa.targets import DEFAULT, Target
@@ -32,6 +32,22 @@ class Context:
     # a discovery test knows the states its earlier tests let through, a role's code the axes its
     # invariants allow. None: any state.
     states: int | None = None
+    # State: the parameter of the command whose body is being compiled (its value is the run's
+    # argument), the arguments bound to the parameters of the plain methods being inlined (each
+    # with the bindings of its caller), and whether roles are re-checked when values change.
+    argument: str | None = None
+    bindings: dict[str, tuple[object, dict]] = field(default_factory=dict)
+    watched: bool = False
+
+    def state(self, name: str) -> StateSymbol | None:
+        """The state ``name`` reads in this code (role state of the role, else module state)."""
+        if name in self.bindings or name == self.argument or self.constant_symbol(name):
+            return None
+        found = self.model.roles[self.role].states.get(name)
+        return found if found is not None else self.model.states.get(name)
+
+    def constant_symbol(self, name: str) -> bool:
+        return any(name in self.model.roles[scope].constants for scope in self.scopes())
 
     def report(self, code: str, span: Span, message: str) -> None:
         """Adds a diagnostic unless ``diagnostics`` already has one with this code and span."""
@@ -53,6 +69,8 @@ class Context:
         return [*reversed(self.mixins), self.role]
 
     def constant(self, name: str) -> Value | None:
+        if name in self.bindings or name == self.argument:
+            return None
         for scope in self.scopes():
             symbol = self.model.roles[scope].constants.get(name)
             if symbol is not None:

@@ -18,7 +18,7 @@ from rdcd_core.compiler.entry import EntryItem
 from rdcd_core.compiler.exprgen import cjump, emit
 from rdcd_core.compiler.fold import fold, local_shape, type_of, vector_of
 from rdcd_core.compiler.geometry import ALL_STATES, LOCAL_STATES
-from rdcd_core.compiler.ir import Ins, Item, Label, code_size
+from rdcd_core.compiler.ir import Body, Ins, Item, Label, code_size
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
 
@@ -148,8 +148,9 @@ def role_mask(exprs: list[ast.Node], ctx: Context, *, local_only: bool = False) 
     return mask
 
 
-def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: int) -> list[Item]:
-    out: list[Item] = []
+def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: int,
+               prologue: list[Item] | tuple = ()) -> list[Item]:
+    out: list[Item] = list(prologue)
     migrate = Label("migrate")
     paths = ALL_STATES
     if any(observes_roles(ctx) for ctx in ctxs):
@@ -173,6 +174,57 @@ def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: 
             paths &= ~mask
     out.append(migrate)
     emit(out, "MIGRATE_CONTINUE", span=ctxs[0].model.roles[ctxs[0].role].decl.name.span)
+    return out
+
+
+def reads_state(ctx: Context) -> bool:
+    """Whether the role's invariants read a state or the neighbours' values."""
+    for inv in ctx.model.roles[ctx.role].invariants:
+        for node in ast.walk(inv.decl.expr):
+            if isinstance(node, ast.NeighbourValues):
+                return True
+            if isinstance(node, ast.NameRef) and ctx.state(node.name.text) is not None:
+                return True
+    return False
+
+
+def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologue: list[Item]) -> list[Item]:
+    """Discovery when invariants read state: a program of its own on every module (RUN_LOCAL),
+    run again whenever a value of the module changes (END_WAIT); it takes the first deployed role
+    whose invariants hold, and runs that role's entry items when it takes it."""
+    first = ctxs[0]
+    span = first.model.roles[first.role].decl.name.span
+    recheck: list[Item] = []
+    done = Label("done")
+    deployed = [ctx.role for ctx in ctxs]
+    always = False
+    for ctx in ctxs:
+        following = Label("next")
+        paths = ALL_STATES
+        exprs = invariants(ctx)
+        for expr in exprs:
+            paths = emit_test(expr, ctx, following, paths, recheck)
+        role_span = ctx.model.roles[ctx.role].decl.name.span
+        role_id = ctx.table.id_of(ctx.role) or 0
+        if not any(o != ctx.role and ctx.model.is_subrole(o, ctx.role) for o in deployed):
+            emit(recheck, "HAS_ROLE", role_id, span=role_span)  # kept: nothing to do
+            emit(recheck, "IF_TRUE_GOTO", done, span=role_span)
+        emit(recheck, "SET_ROLE_NOTIFY", role_id, span=role_span)
+        for item in items.get(ctx.role, []):
+            recheck.extend(item.code)
+        emit(recheck, "GOTO", done, span=role_span)
+        recheck.append(following)
+        if not exprs:
+            always = True
+            break
+    if not always:  # no role holds: the module has none
+        emit(recheck, "SET_ROLE_NOTIFY", 0, span=span)
+    recheck.append(done)
+    emit(recheck, "END_WAIT", span=span)
+    out: list[Item] = list(prologue)
+    first.ext("RUN_LOCAL", span)
+    emit(out, "RUN_LOCAL", Body(recheck), span=span)
+    emit(out, "MIGRATE_CONTINUE", span=span)
     return out
 
 

@@ -73,9 +73,10 @@ def entry_items(ctx: Context, needs_role_check: bool) -> list[EntryItem]:
     model, role = ctx.model, ctx.role
     role_id = ctx.table.id_of(role) or 0
     items: list[EntryItem] = []
+    items += _role_state_items(ctx)
     for method in methods_of(model, role, ast.MethodKind.COMMAND):
         number = USER_COMMAND_BASE + ctx.command_numbers[method.name]
-        body = body_of(method.decl.body, ctx, "END_TERMINATE")
+        body = _command_body(method, ctx)
         code: list[Item] = []
         emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
         items.append(EntryItem("command", code, method.decl.span, method.name))
@@ -86,12 +87,68 @@ def entry_items(ctx: Context, needs_role_check: bool) -> list[EntryItem]:
     numbers = behaviour_numbers(model, role, ctx.command_numbers)
     for method in methods_of(model, role, ast.MethodKind.BEHAVIOR):
         number = USER_COMMAND_BASE + numbers[method.name]
-        body = _behaviour_body(method, ctx, role_id, needs_role_check)
+        check = needs_role_check or (ctx.watched and not _shared_by_every_role(method, ctx))
+        body = _behaviour_body(method, ctx, role_id, check)
         code = []
-        emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
-        emit(code, "EVAL_COMMAND", number, 0, span=method.decl.name.span)
+        if ctx.watched:  # started again whenever the role is taken again: RUN_LOCAL keeps one copy
+            emit(code, "RUN_LOCAL", body, span=method.decl.name.span)
+        else:
+            emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
+            emit(code, "EVAL_COMMAND", number, 0, span=method.decl.name.span)
         items.append(EntryItem("behavior", code, method.decl.span, method.name))
     return items
+
+
+def _shared_by_every_role(method: MethodSymbol, ctx: Context) -> bool:
+    """A behaviour that every deployed role inherits from one declaration and whose code reads no
+    constant is the same code on every role: one copy serves whichever role a module takes, so it
+    needs no role check (RUN_LOCAL keeps one copy of the same code)."""
+    model = ctx.model
+    if any(model.roles[r].methods.get(method.name) is None
+           or model.roles[r].methods[method.name].decl is not method.decl for r in model.deployment):
+        return False
+    return not any(isinstance(node, ast.NameRef) and ctx.constant_symbol(node.name.text)
+                   for node in ast.walk(method.decl.body))
+
+
+def _command_body(method: MethodSymbol, ctx: Context) -> Body:
+    """A command's body; its parameter reads the argument the command was sent with."""
+    saved, params = ctx.argument, method.decl.params
+    ctx.argument = params[0].text if params else None
+    try:
+        return body_of(method.decl.body, ctx, "END_TERMINATE")
+    finally:
+        ctx.argument = saved
+
+
+def _role_state_items(ctx: Context) -> list[EntryItem]:
+    """Role state back to its initial value when the module takes the role (a value that is
+    already right is not stored: 0 at the start, unless roles are re-taken as values change)."""
+    items: list[EntryItem] = []
+    for state in ctx.model.roles[ctx.role].states.values():
+        if state.initial == 0 and not ctx.watched:
+            continue
+        code: list[Item] = []
+        emit(code, "PUSH", state.initial, span=state.decl.span)
+        ctx.ext("STORE_STATE", state.decl.span)
+        emit(code, "STORE_STATE", state.index, span=state.decl.span)
+        items.append(EntryItem("startup", code, state.decl.span, state.name))
+    return items
+
+
+def reacts_only_to_values(block: ast.Block) -> bool:
+    """Whether a behaviour's body computes only from values (state, neighbours' values and roles,
+    coordinates, connections) and only assigns state: running it again changes nothing until one
+    of those values changes, so it waits for a change (END_WAIT) instead of repeating."""
+    for node in ast.walk(block):
+        if isinstance(node, ast.GlobalCall):
+            return False
+        if isinstance(node, ast.SelfCall) and node.name.text not in _PURE_QUERIES:
+            return False
+    return any(isinstance(node, ast.AssignStmt) for node in ast.walk(block))
+
+
+_PURE_QUERIES = frozenset({"center_position", "total_connected", "connected", "x", "y", "z"})
 
 
 def startup_items(stmt: ast.Stmt, ctx: Context, method: str) -> list[EntryItem]:
@@ -134,7 +191,8 @@ def _behaviour_body(method: MethodSymbol, ctx: Context, role_id: int, check: boo
         emit(code, "IF_FALSE_GOTO", end, span=method.decl.name.span)
     statements(method.decl.body.statements, ctx, code)
     code.append(end)
-    emit(code, "END_REPEAT", span=method.decl.span)
+    reactive = ctx.has("END_WAIT") and reacts_only_to_values(method.decl.body)
+    emit(code, "END_WAIT" if reactive else "END_REPEAT", span=method.decl.span)
     return Body(code)
 
 
@@ -149,7 +207,7 @@ def _mixin_commands(ctx: Context) -> list[EntryItem]:
         ctx.mixins.append(mixin)
         for method in methods_of(ctx.model, mixin, ast.MethodKind.COMMAND):
             number = USER_COMMAND_BASE + ctx.command_numbers[method.name]
-            body = body_of(method.decl.body, ctx, "END_TERMINATE")
+            body = _command_body(method, ctx)
             code: list[Item] = []
             emit(code, "INSTALL_COMMAND", applied, number, body, span=method.decl.name.span)
             items.append(EntryItem("command", code, method.decl.span, method.name))

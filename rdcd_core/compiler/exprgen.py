@@ -12,6 +12,7 @@ from rdcd_core.compiler.geometry import DIRECTION_NAMES, ROLE_DIRECTION_OPS
 from rdcd_core.compiler.ir import Ins, Item, Label
 from rdcd_core.syntax import ast
 from rdcd_core.types import PREDEFINED_VALUES, Type
+from vm.isa.opcodes import AGGREGATES, WHERE_ALL, WHERE_CHILDREN, WHERE_CONNECTOR
 
 COORDS = {"x": "X", "y": "Y", "z": "Z"}
 AXIS_OPS = {PREDEFINED_VALUES[name].code: f"CENTER_POSITION_{short}"  # axis code -> its test
@@ -59,8 +60,51 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         emit(out, op, span=expr.span)
     elif isinstance(expr, ast.Binary) and expr.op in ("<", ">"):
         compare(expr.left, expr.right, expr.op, ctx, out, expr.span)
+    elif isinstance(expr, ast.NameRef) and _name_value(expr, ctx, out):
+        pass
     else:
         materialize(expr, ctx, out)
+
+
+def _name_value(expr: ast.NameRef, ctx: Context, out: list[Item]) -> bool:
+    """A state (LOAD_STATE), the command's parameter (PUSH_ARGUMENT) or a plain method's
+    argument (its expression, in its caller's bindings); False for any other name."""
+    name = expr.name.text
+    bound = ctx.bindings.get(name)
+    if bound is not None:
+        arg, outer = bound
+        saved, ctx.bindings = ctx.bindings, outer  # type: ignore[assignment]
+        try:
+            value(arg, ctx, out)  # type: ignore[arg-type]
+        finally:
+            ctx.bindings = saved
+        return True
+    if name == ctx.argument:
+        emit(out, "PUSH_ARGUMENT", 0, span=expr.span)
+        return True
+    state = ctx.state(name)
+    if state is None:
+        return False
+    ctx.ext("LOAD_STATE", expr.span)
+    emit(out, "LOAD_STATE", state.index, span=expr.span)
+    return True
+
+
+def neighbour_values(call: ast.FunctionCall, ctx: Context, out: list[Item]) -> bool:
+    """``min(neighbours.s)``, ``count(children.s)``, …: NBR_AGG; False if not that form."""
+    if len(call.args) != 1 or not isinstance(ast.unparen(call.args[0]), ast.NeighbourValues):
+        return False
+    values: ast.NeighbourValues = ast.unparen(call.args[0])  # type: ignore[assignment]
+    state = ctx.model.states.get(values.name.text)
+    kind = AGGREGATES.index(call.name.text) if call.name.text in AGGREGATES else 0
+    where = WHERE_CHILDREN if values.children else WHERE_ALL
+    if values.where is not None:
+        folded = fold(values.where, ctx)
+        if folded is not None:
+            where = folded.value if type_of(values.where, ctx) is Type.DIR else WHERE_CONNECTOR + folded.value
+    ctx.ext("NBR_AGG", call.span)
+    emit(out, "NBR_AGG", (kind << 4) | (state.index & 7 if state else 0), where, span=call.span)
+    return True
 
 
 def materialize(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
@@ -125,6 +169,14 @@ def _function(expr: ast.FunctionCall, ctx: Context, out: list[Item]) -> None:
         else:
             value(inner, ctx, out)
             emit(out, "SIZEOF", span=expr.span)
+    elif neighbour_values(expr, ctx, out):
+        pass
+    elif expr.name.text in ("min", "max") and len(expr.args) == 2:
+        value(expr.args[0], ctx, out)
+        value(expr.args[1], ctx, out)
+        op = expr.name.text.upper()
+        ctx.ext(op, expr.span)
+        emit(out, op, span=expr.span)
     elif expr.name.text == "connected_role" and len(expr.args) == 2:
         direction = const_arg(expr.args[0], ctx, "the direction")
         role = const_arg(expr.args[1], ctx, "the role")

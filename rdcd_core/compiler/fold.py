@@ -52,6 +52,13 @@ def _eval(expr: ast.Node, ctx: Context, state: tuple[int, int] | None) -> Value 
     if isinstance(expr, ast.IntLit):
         return Value(Type.INT, expr.value)
     if isinstance(expr, ast.NameRef):
+        bound = ctx.bindings.get(expr.name.text)
+        if bound is not None:  # a plain method's parameter: its argument, in the caller's bindings
+            saved, ctx.bindings = ctx.bindings, bound[1]  # type: ignore[assignment]
+            try:
+                return _eval(bound[0], ctx, state)  # type: ignore[arg-type]
+            finally:
+                ctx.bindings = saved
         return ctx.constant(expr.name.text)
     if isinstance(expr, ast.Unary):
         inner = _eval(expr.operand, ctx, state)

@@ -14,7 +14,13 @@ from dataclasses import dataclass, field
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
 from rdcd_core.compiler.context import Context
-from rdcd_core.compiler.discovery import common_prefix, continuation_code, group_code
+from rdcd_core.compiler.discovery import (
+    common_prefix,
+    continuation_code,
+    group_code,
+    reads_state,
+    watched_code,
+)
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
@@ -36,6 +42,7 @@ class Planner:
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     names: set[str] = field(default_factory=set)  # of the fragments
     suffixes: dict[str, int] = field(default_factory=dict)  # name -> the last suffix taken
+    prologue: list[Item] = field(default_factory=list)  # code the first fragment starts with
 
     # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
     # its last successful trial, made again, and that is not optimised a second time
@@ -126,7 +133,8 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
         taken = 0
         while taken < len(pending):
             placed[role].append(pending[taken])
-            if not planner.fits(group_code(ctxs, placed, common), _makeup("discovery", placed)):
+            if not planner.fits(group_code(ctxs, placed, common, planner.prologue),
+                                _makeup("discovery", placed)):
                 placed[role].pop()
                 break
             taken += 1
@@ -134,8 +142,10 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     model = ctxs[0].model
     span = model.roles[group[0]].decl.name.span
     methods = [item.method for role in group for item in placed[role]]
-    planner.add("discover_" + "_".join(group), "discovery", group, group_code(ctxs, placed, common),
-                span, methods, _makeup("discovery", placed))
+    planner.add("discover_" + "_".join(group), "discovery", group,
+                group_code(ctxs, placed, common, planner.prologue), span, methods,
+                _makeup("discovery", placed))
+    planner.prologue = []
     _continuations(planner, rest)
 
 
@@ -180,8 +190,20 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
                     [item.method for item in items], _makeup("continuation", chunk))
 
 
-def plan(ctxs: dict[str, Context], deployment: list[str], budget: int) -> Planner:
-    planner = Planner(ctxs, budget)
+def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
+         prologue: list[Item] | None = None) -> Planner:
+    planner = Planner(ctxs, budget, prologue=list(prologue or []))
+    if any(reads_state(ctx) for ctx in ctxs.values()):
+        for ctx in ctxs.values():
+            ctx.watched = True
+        roles = [ctxs[role] for role in deployment]
+        items = {role: entry_items(ctxs[role], False) for role in deployment}
+        model = roles[0].model
+        span = model.roles[deployment[0]].decl.name.span
+        methods = [item.method for role in deployment for item in items[role]]
+        planner.add("discover_" + "_".join(deployment), "discovery", deployment,
+                    watched_code(roles, items, planner.prologue), span, methods)
+        return planner
     groups = form_groups(planner, deployment)
     later: set[str] = set()
     checks: dict[str, bool] = {}

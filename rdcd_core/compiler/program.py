@@ -56,6 +56,17 @@ class RoleEntry:
 
 
 @dataclass(slots=True)
+class StateEntry:
+    """A state's byte in the module's state memory: for reports, the replay and the debugger."""
+
+    name: str
+    index: int
+    initial: int
+    owner: str | None  # the role of a role state; None for module state
+    published: bool  # sent to the neighbours on every change
+
+
+@dataclass(slots=True)
 class CompiledProgram:
     fragments: list[Fragment]
     roles: list[RoleEntry]
@@ -63,6 +74,7 @@ class CompiledProgram:
     packet_budget: int
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     target: str = "default"  # the vm.isa.targets description it was compiled for
+    states: list[StateEntry] = field(default_factory=list)  # the state memory's layout
 
     @property
     def total_bytes(self) -> int:

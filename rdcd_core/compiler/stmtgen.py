@@ -33,6 +33,18 @@ def statement(stmt: ast.Stmt, ctx: Context, out: list[Item]) -> None:
         _if(stmt, ctx, out)
     elif isinstance(stmt, ast.CallStmt):
         call(stmt.call, ctx, out)
+    elif isinstance(stmt, ast.AssignStmt):
+        assign(stmt, ctx, out)
+
+
+def assign(stmt: ast.AssignStmt, ctx: Context, out: list[Item]) -> None:
+    state = ctx.state(stmt.name.text)
+    if state is None:
+        ctx.report(codes.UNSUPPORTED, stmt.name.span, f"'{stmt.name.text}' is not a state here")
+        return
+    value(stmt.value, ctx, out)
+    ctx.ext("STORE_STATE", stmt.span)
+    emit(out, "STORE_STATE", state.index, span=stmt.span)
 
 
 def _if(stmt: ast.IfStmt, ctx: Context, out: list[Item]) -> None:
@@ -60,8 +72,15 @@ def body_of(block: ast.Node, ctx: Context, end_op: str) -> Body:
 def call(node: ast.Call, ctx: Context, out: list[Item]) -> None:
     if isinstance(node, ast.GlobalCall):
         role = ctx.table.id_of(node.role.text) or 0
-        number = ctx.command_numbers.get(node.name.text, 0)
-        emit(out, "SEND_COMMAND", role, USER_COMMAND_BASE + number, 0, span=node.span)
+        number = USER_COMMAND_BASE + ctx.command_numbers.get(node.name.text, 0)
+        argument = node.args[0] if node.args and not isinstance(node.args[0], ast.Block) else None
+        folded = fold(argument, ctx) if argument is not None else None
+        if argument is None or folded is not None:
+            emit(out, "SEND_COMMAND", role, number, folded.value if folded else 0, span=node.span)
+        else:  # an argument known only at run time
+            value(argument, ctx, out)
+            ctx.ext("SEND_COMMAND_STACK_ARG", node.span)
+            emit(out, "SEND_COMMAND_STACK_ARG", role, number, span=node.span)
     elif isinstance(node, ast.SelfCall) and node.name.text not in QUERIES:
         _self_call(node, ctx, out)
 
@@ -85,11 +104,16 @@ def _self_call(node: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
                    "one another")
     else:
         saved = ctx.inlined_nesting
+        saved_bindings = ctx.bindings
+        # a parameter stands for its argument, evaluated where it is read (expressions are pure)
+        ctx.bindings = {param.text: (arg, saved_bindings)
+                        for param, arg in zip(method.decl.params, args, strict=False)}
         ctx.inlined_nesting += nesting(method.decl.body, ctx)
         ctx.inlining.append(name)
         statements(method.decl.body.statements, ctx, out)
         ctx.inlining.pop()
         ctx.inlined_nesting = saved
+        ctx.bindings = saved_bindings
 
 
 def nesting(node: ast.Node, ctx: Context) -> int:

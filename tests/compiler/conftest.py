@@ -11,6 +11,14 @@ from rdcd_core.compiler import CompiledProgram, compile_model
 from rdcd_core.frontend import CheckResult, check_text
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+# examples that use state: they need the default target's extension instructions (tests/state)
+STATE_EXAMPLES = frozenset({"gradient.rdcd", "count.rdcd", "lowest.rdcd"})
+
+
+def firmware_examples() -> list[Path]:
+    """The examples written for both targets (not the verbatim figure, not the state examples)."""
+    return [path for path in sorted(EXAMPLES.glob("*.rdcd"))
+            if "verbatim" not in path.name and path.name not in STATE_EXAMPLES]
 
 
 def _check(text: str) -> CheckResult:
@@ -45,5 +53,4 @@ def obstacle(obstacle_text: str) -> CompiledProgram:
 
 @pytest.fixture(scope="session")
 def example_programs() -> dict[str, CompiledProgram]:
-    return {path.name: _compile(path.read_text(encoding="utf-8"))
-            for path in sorted(EXAMPLES.glob("*.rdcd")) if "verbatim" not in path.name}
+    return {path.name: _compile(path.read_text(encoding="utf-8")) for path in firmware_examples()}

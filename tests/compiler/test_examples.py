@@ -27,12 +27,10 @@ def test_every_fragment_verifies_strictly(example_programs):
 def test_every_example_compiles_for_the_original_target():
     """Acceptance 1 of issue 11: every example, for the firmware, within its limits; the obstacle
     program still under the hand-written 200 bytes."""
-    from tests.compiler.conftest import EXAMPLES, _compile
+    from tests.compiler.conftest import _compile, firmware_examples
     from vm.isa.targets import ORIGINAL
 
-    for path in sorted(EXAMPLES.glob("*.rdcd")):
-        if "verbatim" in path.name:
-            continue
+    for path in firmware_examples():
         program = _compile(path.read_text(encoding="utf-8"), target="original")
         assert not program.has_errors, (path.name, [d.message for d in program.diagnostics])
         assert program.target == "original"

@@ -16,7 +16,7 @@ import pytest
 from rdcd_core.compiler import CompiledProgram
 from rdcd_core.compiler.firmware_c import INJECTION_DELAY_MS
 from rdcd_core.compiler.render import render_c
-from tests.compiler.conftest import EXAMPLES, _compile
+from tests.compiler.conftest import _compile, firmware_examples
 
 GCC = shutil.which("gcc")
 needs_gcc = pytest.mark.skipif(GCC is None, reason="gcc is not installed (CI has it)")
@@ -80,7 +80,7 @@ int main(void) {
 
 def _programs() -> list[tuple[str, CompiledProgram]]:
     return [(path.name, _compile(path.read_text(encoding="utf-8"), target="original"))
-            for path in sorted(EXAMPLES.glob("*.rdcd")) if "verbatim" not in path.name]
+            for path in firmware_examples()]
 
 
 def _gcc(directory: Path, *args: str) -> subprocess.CompletedProcess:
