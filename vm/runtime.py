@@ -90,7 +90,8 @@ class ModuleRuntime(ModuleNode):
         modules."""
         return not self.halted and bool(self._inbox or self.link.outbox
                                         or any(not t.waiting for t in self.store.tasks)
-                                        or (events and any(v is not None for v in self.store.vectors)))
+                                        or (events and any(v is not None for v in self.store.vectors))
+                                        or self._lost_neighbour())
 
     def stats(self) -> dict[str, int]:
         """Counters for reports: packets sent (with retries), retransmissions, duplicates..."""
@@ -416,8 +417,18 @@ class ModuleRuntime(ModuleNode):
         for task in self.store.tasks:
             task.waiting = False
 
+    def _lost_neighbour(self) -> bool:
+        """Whether a neighbour whose values this module keeps is no longer attached."""
+        if not self._keeps_values:
+            return False
+        connected = self.connected_virtual()
+        return any(not connected >> v & 1 and (self.neighbour_is_child[v] or any(
+            value is not None for value in self.neighbour_cache[v])) for v in range(8))
+
     def _forget_lost_neighbours(self) -> None:
         """A neighbour that is no longer attached: its values and its child mark are forgotten."""
+        if not self._keeps_values:
+            return
         connected = self.connected_virtual()
         for v in range(8):
             if not connected >> v & 1 and (self.neighbour_is_child[v] or any(

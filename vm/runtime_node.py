@@ -91,6 +91,7 @@ class ModuleNode:
         self.neighbour_cache: list[list[int | None]] = [[None] * PUBLISHED_SLOTS for _ in range(8)]
         self.neighbour_is_child = [False] * 8
         self.parent_channel: int | None = None
+        self._keeps_values = False  # a value packet has arrived (lost neighbours are then watched)
         self._value_seq: dict[tuple[int, int], int] = {}  # (physical channel, state) → last id
         self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
         self.link = Link(hal, self.rng, checksum=checksum, acknowledged=not target.quirks.no_acknowledgements)
@@ -222,6 +223,7 @@ class ModuleNode:
         if last is not None and not 0 < (p.header.id - last) & 0xFF < 128:
             return  # a duplicate or an older value
         self._value_seq[key] = p.header.id
+        self._keeps_values = True
         v = self._p2v[ch]
         changed = self.neighbour_cache[v][p.index] != p.value or self.neighbour_is_child[v] != p.to_parent
         self.neighbour_cache[v][p.index] = p.value

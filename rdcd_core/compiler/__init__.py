@@ -83,7 +83,7 @@ def _state_prologue(model: Model, ctxs: dict[str, Context]) -> list[Item]:
         if state.initial == 0 or first is None:
             continue
         code.append(Ins("PUSH", (state.initial,), state.decl.span))
-        first.ext("STORE_STATE", state.decl.span)
+        first.need("STORE_STATE", state.decl.span, "state needs the extension instruction")
         code.append(Ins("STORE_STATE", (state.index,), state.decl.span))
     return code
 

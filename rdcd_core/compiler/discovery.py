@@ -222,7 +222,7 @@ def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologu
     recheck.append(done)
     emit(recheck, "END_WAIT", span=span)
     out: list[Item] = list(prologue)
-    first.ext("RUN_LOCAL", span)
+    first.need("RUN_LOCAL", span, "roles that depend on state need the extension instruction")
     emit(out, "RUN_LOCAL", Body(recheck), span=span)
     emit(out, "MIGRATE_CONTINUE", span=span)
     return out

@@ -130,7 +130,7 @@ def _role_state_items(ctx: Context) -> list[EntryItem]:
             continue
         code: list[Item] = []
         emit(code, "PUSH", state.initial, span=state.decl.span)
-        ctx.ext("STORE_STATE", state.decl.span)
+        ctx.need("STORE_STATE", state.decl.span, "state needs the extension instruction")
         emit(code, "STORE_STATE", state.index, span=state.decl.span)
         items.append(EntryItem("startup", code, state.decl.span, state.name))
     return items

@@ -85,7 +85,7 @@ def _name_value(expr: ast.NameRef, ctx: Context, out: list[Item]) -> bool:
     state = ctx.state(name)
     if state is None:
         return False
-    ctx.ext("LOAD_STATE", expr.span)
+    ctx.need("LOAD_STATE", expr.span, "state needs the extension instruction")
     emit(out, "LOAD_STATE", state.index, span=expr.span)
     return True
 
@@ -102,7 +102,7 @@ def neighbour_values(call: ast.FunctionCall, ctx: Context, out: list[Item]) -> b
         folded = fold(values.where, ctx)
         if folded is not None:
             where = folded.value if type_of(values.where, ctx) is Type.DIR else WHERE_CONNECTOR + folded.value
-    ctx.ext("NBR_AGG", call.span)
+    ctx.need("NBR_AGG", call.span, "the neighbours' values need the extension instruction")
     emit(out, "NBR_AGG", (kind << 4) | (state.index & 7 if state else 0), where, span=call.span)
     return True
 

@@ -43,7 +43,7 @@ def assign(stmt: ast.AssignStmt, ctx: Context, out: list[Item]) -> None:
         ctx.report(codes.UNSUPPORTED, stmt.name.span, f"'{stmt.name.text}' is not a state here")
         return
     value(stmt.value, ctx, out)
-    ctx.ext("STORE_STATE", stmt.span)
+    ctx.need("STORE_STATE", stmt.span, "state needs the extension instruction")
     emit(out, "STORE_STATE", state.index, span=stmt.span)
 
 
