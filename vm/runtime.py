@@ -80,6 +80,7 @@ class ModuleRuntime(ModuleNode):
         self.runs = 0  # every run started: repeats, handlers and user commands included
         self._notify_id = 0
         self._value_id = 0
+        self._changed_in_run = False  # a value changed during the run in progress
         self._published: list[int | None] = [None] * PUBLISHED_SLOTS  # last value sent of each
         self.state_history: list[tuple[float, int, int]] = []  # (t, state, value) on every change
 
@@ -154,6 +155,7 @@ class ModuleRuntime(ModuleNode):
                 self.store.tasks.remove(task)
                 self._run_command(task.command or 0, task.arg)
                 continue
+            self._changed_in_run = False
             if task.frame is None:
                 task.frame = Frame(task.slot.code, task.arg)
                 self.runs += 1
@@ -194,8 +196,10 @@ class ModuleRuntime(ModuleNode):
             self.store.tasks.append(task)
             return
         if result.outcome is Outcome.WAIT:
+            # a run that changed a value runs again (its next run may read it), like END_REPEAT;
+            # one that changed nothing waits until something else does
             task.frame = None
-            task.waiting = True
+            task.waiting = not self._changed_in_run
             return
         self.store.tasks.remove(task)
         if result.outcome is Outcome.MIGRATE and slot is not None:
@@ -414,6 +418,7 @@ class ModuleRuntime(ModuleNode):
             self._error(f"RUN_LOCAL: {e}")
 
     def _values_changed(self) -> None:
+        self._changed_in_run = True
         for task in self.store.tasks:
             task.waiting = False
 
