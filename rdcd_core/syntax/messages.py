@@ -117,7 +117,9 @@ def unexpected(values: list, tok: Tok, expected: set[str], dangling: Tok | None 
         return Message(E_UNEXPECTED_TOKEN,
                        f"a role {values[-2].value} only one role: expected '{{' after '{prev.value}'")
     if ctx.is_tok(prev, ("ASSIGN",)):
-        return Message(E_UNEXPECTED_TOKEN, f"expected the constant's value after ':=', found {found}", (),
+        what = {"CONSTANT": "the constant's value", "STATE": "the state's initial value"}.get(
+            values[-3].type if len(values) >= 3 and isinstance(values[-3], Tok) else "", "the new value")
+        return Message(E_UNEXPECTED_TOKEN, f"expected {what} after ':=', found {found}", (),
                        missing)
     if k < 0 and "ROLE" in expected and "RBRACE" not in expected:
         return Message(E_OUTSIDE_ROLE, f"unexpected {found} outside of a role: "
