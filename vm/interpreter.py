@@ -293,6 +293,8 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
         m.store_state(_state(a[0]), value)
     elif name == "NBR_AGG":
         _push(frame, m.neighbour_values(a[0], a[1]), target)
+    elif name == "SET_LED_STACK":
+        m.set_led(_pop(frame))
     elif name == "RUN_LOCAL":
         frame.at = at
         m.run_local(_embedded(frame, a[0], a[1]))

@@ -13,6 +13,14 @@ from vm.isa.targets import DEFAULT, TARGETS
 
 
 def to_json(program: CompiledProgram) -> dict[str, object]:
+    data = _json_core(program)
+    if program.states:  # the state memory's layout (programs with state only)
+        data["states"] = [{"name": s.name, "index": s.index, "initial": s.initial, "role": s.owner,
+                           "published": s.published} for s in program.states]
+    return data
+
+
+def _json_core(program: CompiledProgram) -> dict[str, object]:
     return {
         "target": program.target,
         "packet_budget": program.packet_budget,
@@ -120,6 +128,12 @@ def render_listing(program: CompiledProgram) -> str:
     for role in program.roles:
         parents = ", ".join(names[i] for i in role.instance_of if i != role.id)
         lines.append(f"  {role.id:2d} {role.name:<28} {role.kind:<12} instance of: {parents or '-'}")
+    if program.states:
+        lines.append("states:")
+        for state in program.states:
+            kind = f"role state of {state.owner}" if state.owner else "module state"
+            lines.append(f"  {state.index:3d} {state.name:<26} {kind}, initial {state.initial}"
+                         + (", published" if state.published else ""))
     lines.append("injection: " + " -> ".join(program.injection))
     lines.append(f"total {program.total_bytes} bytes in {len(program.fragments)} fragments, "
                  f"largest {program.max_fragment_bytes} (budget {program.program_budget})")

@@ -200,6 +200,18 @@ def _immediate(op: str, what: str):  # type: ignore[no-untyped-def]
     return generate
 
 
+def _set_led(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+    if not args:
+        return
+    if fold(args[0], ctx) is not None:
+        _immediate("SET_LED", "the LED value")(args, ctx, out, span)
+        return
+    value(args[0], ctx, out)  # a value known only at run time (a state, an argument)
+    ctx.need("SET_LED_STACK", args[0].span,
+             "an LED value known only at run time needs the extension instruction")
+    emit(out, "SET_LED_STACK", span=span)
+
+
 def _no_operand(op: str, *operands: int):  # type: ignore[no-untyped-def]
     def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
         emit(out, op, *operands, span=span)
@@ -266,7 +278,7 @@ PRIMITIVE_CODE = {
     "stopTurning": _no_operand("EVAL_COMMAND", STOP, 0),
     "sleepWhileTurning": _immediate("SLEEP_ROTATIONS", "the number of turns"),
     "sleep": _no_operand("SLEEP"),
-    "setLed": _immediate("SET_LED", "the LED value"),
+    "setLed": _set_led,
     "handleEvent": _handle_event,
     "assumeRole": _assume_role,
     **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},

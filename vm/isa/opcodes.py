@@ -134,6 +134,7 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
     _i(67, "END_WAIT", (), 0, 0,
        "end the run; run this program again when a state or a neighbour's published value of this "
        "module changes", ext=True, no_fallthrough=True),
+    _i(68, "SET_LED_STACK", (), 1, 0, "pop v; show v on the LEDs", ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
