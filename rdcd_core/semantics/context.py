@@ -35,6 +35,7 @@ class Context:
         self.assumed_mixins: dict[str, ast.Name] = {}
         self.read_states: set[int] = set()  # ids of the StateSymbols read somewhere
         self.written_states: set[int] = set()
+        self.role_state_owners: dict[str, str] | None = None  # states.py, once the roles are built
 
     # -- diagnostics -------------------------------------------------------------------
     def report(self, code: str, span: Span, message: str, *,

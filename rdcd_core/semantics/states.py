@@ -114,17 +114,27 @@ def read(env: Env, expr: ast.NameRef) -> tuple[Type | None, Value | None] | None
     return Type.INT, None
 
 
+def _role_state_owners(ctx: Context) -> dict[str, str]:
+    """Role state name -> the first role that declares it (computed once per analysis)."""
+    if ctx.role_state_owners is None:
+        owners: dict[str, str] = {}
+        for role in ctx.model.roles.values():
+            for state in role.states.values():
+                if state.owner == role.name:
+                    owners.setdefault(state.name, role.name)
+        ctx.role_state_owners = owners
+    return ctx.role_state_owners
+
+
 def _param_target(env: Env, name: str) -> str:
     method = env.method
     return f"{env.home.name}.{method.name.text if method else ''}.{name}"
 
 
 def _other_roles_state(env: Env, name: ast.Name, what: str) -> tuple[None, None] | None:
-    owners = [r.name for r in env.ctx.model.roles.values()
-              if name.text in r.states and r.states[name.text].owner == r.name]
-    if not owners:
+    owner = _role_state_owners(env.ctx).get(name.text)
+    if owner is None:
         return None
-    owner = owners[0]
     symbol = env.ctx.model.roles[owner].states[name.text]
     env.ctx.reference(name, "state", state_target(symbol))
     env.ctx.report(codes.OTHER_ROLES_STATE, name.span,
