@@ -248,6 +248,8 @@ class _Printer:
             self.line(f"constant {member.name.text} := {expr(member.value)};", member.span.end, 1)
         elif isinstance(member, ast.StateDecl):
             self.line(f"state {member.name.text} := {expr(member.value)};", member.span.end, 1)
+        elif isinstance(member, ast.AssignStmt):
+            self.line(inline_statement(member), member.span.end, 1)
         elif isinstance(member, ast.Invariant):
             self.line(expr(member.expr) + ";", member.span.end, 1)
         else:

@@ -219,6 +219,9 @@ BAD_PARAMETER = define_code(
     "E710", _E,
     "a parameter that is not a single new name, or more parameters than the method kind takes",
     "role A { command go(a, b) { } }\ndeployment { A }")
+ASSIGN_OUTSIDE_METHOD = define_code(
+    "E711", _E, "an assignment directly in a role: only methods assign, invariants only read",
+    "state s := 0;\nrole A { s := 1; }\ndeployment { A }")
 STATE_TOO_MANY = define_code(
     "E720", _E,
     "more than 32 states, or more than 8 module states read by neighbours (the VM's state memory)",

@@ -64,6 +64,12 @@ def _own_members(ctx: Context, symbol: RoleSymbol) -> tuple[
     invariants: list[InvariantSymbol] = []
     own_states: dict[str, StateSymbol] = {}
     for member in decl.members:
+        if isinstance(member, ast.AssignStmt):
+            ctx.report(codes.ASSIGN_OUTSIDE_METHOD, member.span,
+                       f"'{member.name.text} := …' is an assignment, which only a method can make; "
+                       "invariants read state, they never change it: move it into a startup, behavior "
+                       "or command method")
+            continue
         if isinstance(member, ast.StateDecl):
             if symbol.is_mixin:
                 ctx.report(codes.MIXIN_STATE, member.name.span,

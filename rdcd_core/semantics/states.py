@@ -148,7 +148,13 @@ def check_assign(env: Env, stmt: ast.AssignStmt) -> None:
     from rdcd_core.semantics import expressions
 
     name = stmt.name.text
-    type_, _ = expressions.check_expr(env, stmt.value)
+    if isinstance(stmt.value, ast.Block):
+        env.ctx.report(codes.BLOCK_NOT_ALLOWED, stmt.value.span,
+                       "a block is not a value: a state holds an int; blocks are allowed only as the "
+                       "second argument of handleEvent or assumeRole")
+        type_ = None
+    else:
+        type_, _ = expressions.check_expr(env, stmt.value)
     if type_ is not None and type_ is not Type.INT:
         env.ctx.report(codes.TYPE_MISMATCH, stmt.value.span,
                        f"a state holds an int, not {expressions.a_type(type_)}")

@@ -27,6 +27,8 @@ def expr_nodes(expr: ast.Arg) -> Iterator[ast.Arg]:
             push(node.expr)
         elif kind in CALLS:
             stack.extend(reversed([a for a in node.args if type(a) is not ast.Block]))
+        elif kind is ast.NeighbourValues and node.where is not None:
+            push(node.where)
 
 
 def code_nodes(node: ast.Stmt | ast.Arg) -> Iterator[ast.Stmt | ast.Arg]:
@@ -56,3 +58,7 @@ def code_nodes(node: ast.Stmt | ast.Arg) -> Iterator[ast.Stmt | ast.Arg]:
             push(current.operand)
         elif kind is ast.Paren:
             push(current.expr)
+        elif kind is ast.AssignStmt:
+            push(current.value)
+        elif kind is ast.NeighbourValues and current.where is not None:
+            push(current.where)

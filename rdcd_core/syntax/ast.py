@@ -160,7 +160,7 @@ class AssignStmt:
     """``name := expr;``: a new value for a state."""
 
     name: Name
-    value: Expr
+    value: Expr  # a Block only in erroneous programs (the checker reports it)
     span: Span  # includes the trailing ';'
 
 
@@ -245,7 +245,7 @@ class MethodDecl:
         return MethodKind.PLAIN
 
 
-Member = Union[AbstractConstants, ConstantDef, StateDecl, Invariant, MethodDecl]
+Member = Union[AbstractConstants, ConstantDef, StateDecl, Invariant, MethodDecl, AssignStmt]
 
 # ----------------------------------------------------------------------------- program
 

@@ -156,6 +156,9 @@ class AstBuilder:
     def assign_stmt(self, c: list) -> ast.AssignStmt:
         return _nested(ast.AssignStmt(_name(c[0]), c[2], _span(c[0], c[3])), (c[2],))
 
+    def misplaced_assign(self, c: list) -> ast.AssignStmt:
+        return self.assign_stmt(c)
+
     def if_stmt(self, c: list) -> ast.IfStmt:
         else_kw = c[5] if len(c) > 6 else None
         else_body = c[6] if else_kw is not None else None

@@ -67,16 +67,18 @@ def test_a_very_long_chain_gets_its_real_limit(tmp_path: Path) -> None:
     assert "nested" not in first and "internal error" not in done.stdout
 
 
-def test_conflict_witnesses_follow_the_vms_wrapping_arithmetic(tmp_path: Path) -> None:
+def test_conflict_witnesses_follow_the_vms_saturating_arithmetic(tmp_path: Path) -> None:
     b = "role B { self.x() >= 90; self.y() >= 90; }"
-    never = tmp_path / "never.rdcd"  # x + y is 180..254 there, which the VM wraps to a negative
-    never.write_text(f"role A {{ self.x() + self.y() > 0; }}\n{b}\ndeployment {{ A, B }}\n", encoding="utf-8")
+    never = tmp_path / "never.rdcd"  # x + y would wrap to a negative; saturated it is 127 there
+    never.write_text(f"role A {{ self.x() + self.y() < 0; }}\n{b}\ndeployment {{ A, B }}\n", encoding="utf-8")
     done = check(never)
     assert done.returncode == 0 and "W503" not in done.stdout, done.stdout
-    wraps = tmp_path / "wraps.rdcd"
-    wraps.write_text(f"role A {{ self.x() + self.y() < 0; }}\n{b}\ndeployment {{ A, B }}\n", encoding="utf-8")
-    done = check(wraps)
+    saturates = tmp_path / "saturates.rdcd"
+    saturates.write_text(f"role A {{ self.x() + self.y() > 0; }}\n{b}\ndeployment {{ A, B }}\n",
+                         encoding="utf-8")
+    done = check(saturates)
     assert "warning[W503]: 'B' and 'A' can both hold on one module (e.g. x = 90, y = 90)" in done.stdout
+
 
 
 def test_behaviours_count_in_the_command_table_at_check_time(tmp_path: Path) -> None:
