@@ -205,7 +205,8 @@ class _Printer:
             if isinstance(item, ast.RoleDecl):
                 self.role(item)
             elif isinstance(item, ast.StateDecl):
-                self.line(f"state {item.name.text} := {expr(item.value)};", item.span.end, 0)
+                travelling = "travelling " if item.travelling else ""
+                self.line(f"{travelling}state {item.name.text} := {expr(item.value)};", item.span.end, 0)
             else:
                 self.deployment(item)
         self.leading(len(self.text) + 1, 0)
@@ -247,7 +248,8 @@ class _Printer:
         elif isinstance(member, ast.ConstantDef):
             self.line(f"constant {member.name.text} := {expr(member.value)};", member.span.end, 1)
         elif isinstance(member, ast.StateDecl):
-            self.line(f"state {member.name.text} := {expr(member.value)};", member.span.end, 1)
+            travelling = "travelling " if member.travelling else ""
+            self.line(f"{travelling}state {member.name.text} := {expr(member.value)};", member.span.end, 1)
         elif isinstance(member, ast.AssignStmt):
             self.line(inline_statement(member), member.span.end, 1)
         elif isinstance(member, ast.Invariant):

@@ -76,6 +76,8 @@ class Machine(Protocol):
     def store_state(self, index: int, value: int) -> None: ...
     def neighbour_values(self, gather: int, where: int) -> int: ...
     def run_local(self, code: bytes) -> None: ...
+    def load_data(self) -> int: ...
+    def store_data(self, value: int) -> None: ...
     def trace(self, frame: Frame, text: str) -> None: ...
 
 
@@ -293,6 +295,12 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
         m.store_state(_state(a[0]), value)
     elif name == "NBR_AGG":
         _push(frame, m.neighbour_values(a[0], a[1]), target)
+    elif name == "DATA":
+        raise VMError("DATA is the value the program carries, not an instruction to run")
+    elif name == "LOAD_DATA":
+        _push(frame, m.load_data(), target)
+    elif name == "STORE_DATA":
+        m.store_data(_pop(frame))
     elif name == "SET_LED_STACK":
         m.set_led(_pop(frame))
     elif name == "RUN_LOCAL":

@@ -47,7 +47,9 @@ from vm.isa.opcodes import (
     USER_COMMAND_NUMBERS,
     WHERE_CHILDREN,
     WHERE_CONNECTOR,
+    carried_data_offset,
     saturated,
+    signed_byte,
 )
 from vm.isa.targets import DEFAULT, Target
 from vm.packets import NOTIFY, VALUE, ValuePacket, encode, make_header
@@ -81,6 +83,7 @@ class ModuleRuntime(ModuleNode):
         self._notify_id = 0
         self._value_id = 0
         self._changed_in_run = False  # a value changed during the run in progress
+        self._running_slot: Slot | None = None  # the program of the run in progress (LOAD/STORE_DATA)
         self._published: list[int | None] = [None] * PUBLISHED_SLOTS  # last value sent of each
         self.state_history: list[tuple[float, int, int]] = []  # (t, state, value) on every change
 
@@ -156,6 +159,7 @@ class ModuleRuntime(ModuleNode):
                 self._run_command(task.command or 0, task.arg)
                 continue
             self._changed_in_run = False
+            self._running_slot = task.slot
             if task.frame is None:
                 task.frame = Frame(task.slot.code, task.arg)
                 self.runs += 1
@@ -416,6 +420,17 @@ class ModuleRuntime(ModuleNode):
                 raise
         except StoreFull as e:
             self._error(f"RUN_LOCAL: {e}")
+
+    def load_data(self) -> int:
+        slot = self._running_slot
+        at = carried_data_offset(slot.code) if slot is not None else None
+        return signed_byte(slot.code[at]) if slot is not None and at is not None else 0
+
+    def store_data(self, value: int) -> None:
+        slot = self._running_slot
+        at = carried_data_offset(slot.code) if slot is not None else None
+        if slot is not None and at is not None:
+            slot.code = slot.code[:at] + bytes((value & 0xFF,))
 
     def _values_changed(self) -> None:
         self._changed_in_run = True

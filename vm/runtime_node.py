@@ -33,7 +33,7 @@ from collections.abc import Callable
 from vm import navigation as nav
 from vm.hal import ModuleHal
 from vm.interpreter import Frame
-from vm.isa.opcodes import PUBLISHED_SLOTS, STATE_SLOTS
+from vm.isa.opcodes import PUBLISHED_SLOTS, STATE_SLOTS, carried_data_offset
 from vm.isa.targets import DEFAULT, Target
 from vm.isa.verifier import verify
 from vm.observer import RuntimeObserver
@@ -62,6 +62,13 @@ MAX_LOG = 10_000
 EventHook = Callable[[str, dict[str, object]], None]
 
 
+def program_key(code: bytes) -> bytes:
+    """What identifies a program besides its id: its code without the value it carries (which
+    changes from module to module)."""
+    at = carried_data_offset(code)
+    return code if at is None else code[:at]
+
+
 class ModuleNode:
     def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
                  checksum: bool = False, target: Target = DEFAULT) -> None:
@@ -85,8 +92,8 @@ class ModuleNode:
         self.neighbour_roles = [0] * 8  # by virtual channel
         # State (this project's extension): the module's state memory, the last value of each
         # published state that each neighbour sent (by virtual channel), which neighbours named
-        # this module their parent, and this module's parent: the physical channel of the first
-        # packet it received, which gave it its frame (None on the entry module).
+        # this module their parent, and this module's parent: the physical channel on which the
+        # first program it accepted arrived (None on the entry module, where programs are injected).
         self.state = [0] * STATE_SLOTS
         self.neighbour_cache: list[list[int | None]] = [[None] * PUBLISHED_SLOTS for _ in range(8)]
         self.neighbour_is_child = [False] * 8
@@ -155,7 +162,6 @@ class ModuleNode:
             return
         if self.position is None:
             self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
-            self.parent_channel = ch
         if isinstance(p, ProgramPacket):
             if self._accept_program(p.code, h.id, ch, h.vch):
                 self.link.send_ack(ch, raw)
@@ -171,7 +177,7 @@ class ModuleNode:
 
     def _accept_program(self, code: bytes, ident: int, ch: int | None, vch: int | None) -> bool:
         """Store and queue a program; False when it should be offered again later (no room)."""
-        key = (ident, code)
+        key = (ident, program_key(code))
         if key in self._seen_programs and not self.target.quirks.no_duplicate_suppression:
             self.duplicates += 1
             return True
@@ -192,6 +198,8 @@ class ModuleNode:
             self._error_once(("full", key), f"program {ident} not accepted: {e}")
             return False
         self._seen_programs.add(key)
+        if self.parent_channel is None and ch is not None:  # the tree: who first brought a program
+            self.parent_channel = ch
         self._log("program", {"id": ident, "size": len(code)})
         if self.observer is not None:
             self.observer.program_stored(self, slot)
@@ -250,7 +258,7 @@ class ModuleNode:
         ident = slot.ident
         if slot.kind != PROGRAM_SLOT:  # a handler or command spreading: a new program each time
             ident = self._local_id()
-            self._seen_programs.add((ident, slot.code))
+            self._seen_programs.add((ident, program_key(slot.code)))
         self._send_all(PROGRAM, ident, slot.code, exclude=slot.in_physical)
 
     def _flood_command(self, ident: int, role: int, command: int, arg: int, exclude: int | None) -> None:

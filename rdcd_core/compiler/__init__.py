@@ -30,6 +30,7 @@ from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.compiler.verify import verify_fragments
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex
+from vm.isa.opcodes import DATA_OPCODE
 from vm.isa.targets import DEFAULT, ORIGINAL, TARGETS, Target
 
 __all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_lines",
@@ -57,7 +58,10 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
         ctx.states = axis_states(model, ctx.role, role_mask(invariants(ctx), ctx, local_only=True))
     # a fragment must fit its packet and a program slot, however large the packets may be
     prologue = _state_prologue(model, ctxs)
-    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue)
+    travelling = next((s for s in model.states.values() if s.travelling), None)
+    trailer = bytes((DATA_OPCODE, travelling.initial & 0xFF)) if travelling is not None else b""
+    planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue,
+                   trailer)
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
@@ -80,6 +84,11 @@ def _state_prologue(model: Model, ctxs: dict[str, Context]) -> list[Item]:
     code: list[Item] = []
     first = next(iter(ctxs.values()), None)
     for state in model.states.values():
+        if state.travelling and first is not None:  # the value the program brought (DATA)
+            code.append(Ins("LOAD_DATA", (), state.decl.span))
+            first.need("LOAD_DATA", state.decl.span, "a travelling state needs the extension instruction")
+            code.append(Ins("STORE_STATE", (state.index,), state.decl.span))
+            continue
         if state.initial == 0 or first is None:
             continue
         code.append(Ins("PUSH", (state.initial,), state.decl.span))

@@ -29,7 +29,7 @@ TOO_MANY_COMMANDS = define_code(
     "  command f() { } }\ndeployment { A, B, C }")
 NOT_CONSTANT = define_code(
     "E604", _E, "the target needs a compile-time constant here",
-    "role A { self.x() > 0; startup s() { self.setLed(self.y()); } }\ndeployment { A }")
+    "role A { self.x() > 0; startup s() { self.sleepWhileTurning(self.y()); } }\ndeployment { A }")
 EXT_REFUSED = define_code(
     "E605", _E, "code needs an instruction the target does not run (e.g. --target original)",
     "// rdcd check --target original\nrole A { self.x() + self.y() > 0; }\ndeployment { A }")

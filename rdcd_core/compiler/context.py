@@ -38,6 +38,7 @@ class Context:
     argument: str | None = None
     bindings: dict[str, tuple[object, dict]] = field(default_factory=dict)
     watched: bool = False
+    in_body: bool = False  # code of a stored body (handler, command, behaviour): it never migrates
 
     def state(self, name: str) -> StateSymbol | None:
         """The state ``name`` reads in this code (role state of the role, else module state)."""

@@ -184,6 +184,14 @@ def _stable(expr: ast.Node) -> bool:
 
 
 def _behaviour_body(method: MethodSymbol, ctx: Context, role_id: int, check: bool) -> Body:
+    saved, ctx.in_body = ctx.in_body, True
+    try:
+        return _behaviour_code(method, ctx, role_id, check)
+    finally:
+        ctx.in_body = saved
+
+
+def _behaviour_code(method: MethodSymbol, ctx: Context, role_id: int, check: bool) -> Body:
     code: list[Item] = []
     end = Label("repeat")
     if check:

@@ -43,6 +43,7 @@ class Planner:
     names: set[str] = field(default_factory=set)  # of the fragments
     suffixes: dict[str, int] = field(default_factory=dict)  # name -> the last suffix taken
     prologue: list[Item] = field(default_factory=list)  # code the first fragment starts with
+    trailer: bytes = b""  # what the first fragment ends with: DATA, the value it carries
 
     # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
     # its last successful trial, made again, and that is not optimised a second time
@@ -66,6 +67,10 @@ class Planner:
     def add(self, name: str, kind: str, roles: list[str], code: list[Item], span: Span,
             methods: list[str], makeup: Makeup | None = None) -> None:
         blob, entries = assemble(self.optimise(code, makeup))
+        carried = b""
+        if self.trailer and not self.fragments:  # the first fragment carries the travelling value
+            carried = self.trailer
+            blob += carried
         unique, n = name, self.suffixes.get(name, 1)
         while unique in self.names:  # resumes where the last fragment of this name stopped
             n += 1
@@ -75,7 +80,7 @@ class Planner:
         role = roles[0] if len(roles) == 1 else None
         self.fragments.append(Fragment(unique, kind, role, blob, entries, span, roles=list(roles),
                                        methods=list(dict.fromkeys(methods))))
-        if len(blob) > self.budget:
+        if len(blob) > self.budget + len(carried):
             self._over_budget(unique, len(blob), span)
 
     def _over_budget(self, name: str, size: int, span: Span) -> None:
@@ -146,6 +151,8 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
                 group_code(ctxs, placed, common, planner.prologue), span, methods,
                 _makeup("discovery", placed))
     planner.prologue = []
+    planner.budget += len(planner.trailer)  # only the first fragment carries it
+    planner.trailer = b""
     _continuations(planner, rest)
 
 
@@ -191,8 +198,8 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
 
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
-         prologue: list[Item] | None = None) -> Planner:
-    planner = Planner(ctxs, budget, prologue=list(prologue or []))
+         prologue: list[Item] | None = None, trailer: bytes = b"") -> Planner:
+    planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer)
     if any(reads_state(ctx) for ctx in ctxs.values()):
         for ctx in ctxs.values():
             ctx.watched = True

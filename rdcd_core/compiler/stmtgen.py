@@ -45,6 +45,9 @@ def assign(stmt: ast.AssignStmt, ctx: Context, out: list[Item]) -> None:
     value(stmt.value, ctx, out)
     ctx.need("STORE_STATE", stmt.span, "state needs the extension instruction")
     emit(out, "STORE_STATE", state.index, span=stmt.span)
+    if state.travelling and not ctx.in_body and not ctx.watched:  # the program carries it on
+        emit(out, "LOAD_STATE", state.index, span=stmt.span)
+        emit(out, "STORE_DATA", span=stmt.span)
 
 
 def _if(stmt: ast.IfStmt, ctx: Context, out: list[Item]) -> None:
@@ -63,8 +66,10 @@ def _if(stmt: ast.IfStmt, ctx: Context, out: list[Item]) -> None:
 
 def body_of(block: ast.Node, ctx: Context, end_op: str) -> Body:
     code: list[Item] = []
+    saved, ctx.in_body = ctx.in_body, True
     if isinstance(block, ast.Block):
         statements(block.statements, ctx, code)
+    ctx.in_body = saved
     emit(code, end_op, span=getattr(block, "span", None))
     return Body(code)
 

@@ -222,6 +222,9 @@ BAD_PARAMETER = define_code(
 ASSIGN_OUTSIDE_METHOD = define_code(
     "E711", _E, "an assignment directly in a role: only methods assign, invariants only read",
     "state s := 0;\nrole A { s := 1; }\ndeployment { A }")
+BAD_TRAVELLING = define_code(
+    "E712", _E, "a travelling state in a role, or more than one travelling state",
+    "role A { travelling state hop := 0; }\ndeployment { A }")
 STATE_TOO_MANY = define_code(
     "E720", _E,
     "more than 32 states, or more than 8 module states read by neighbours (the VM's state memory)",

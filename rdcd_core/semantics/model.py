@@ -66,6 +66,7 @@ class StateSymbol:
     initial: int = 0  # the folded initial value
     index: int = -1  # its byte in the module's state memory (``Model.state_layout``)
     published: bool = False  # neighbours read it (neighbours.s, children.s): sent on every change
+    travelling: bool = False  # its value travels with the program from module to module
 
     @property
     def is_module_state(self) -> bool:

@@ -35,12 +35,23 @@ def declare_module_states(ctx: Context) -> None:
                        f"module state '{name}' is already declared; rename or remove one",
                        related=(diag.Related(first.decl.name.span, f"first declaration of '{name}'"),))
             continue
-        ctx.model.states[name] = StateSymbol(name, None, decl)
+        ctx.model.states[name] = StateSymbol(name, None, decl, travelling=decl.travelling)
         ctx.reference(decl.name, "state", name, True)
+        travelling = [s for s in ctx.model.states.values() if s.travelling]
+        if decl.travelling and len(travelling) > 1:
+            ctx.report(codes.BAD_TRAVELLING, decl.name.span,
+                       f"'{name}' is a second travelling state; a program carries one value, "
+                       f"'{travelling[0].name}'",
+                       related=(diag.Related(travelling[0].decl.name.span, "the travelling state"),))
+            ctx.model.states[name].travelling = False
 
 
 def role_state(ctx: Context, role: str, decl: ast.StateDecl) -> StateSymbol:
     ctx.reference(decl.name, "state", f"{role}.{decl.name.text}", True)
+    if decl.travelling:
+        ctx.report(codes.BAD_TRAVELLING, decl.span,
+                   f"only module state travels: declare 'travelling state {decl.name.text} := …;' at the "
+                   "top level of the program")
     return StateSymbol(decl.name.text, role, decl)
 
 

@@ -192,11 +192,13 @@ class ConstantDef:
 @fast_init
 @dataclass(frozen=True, slots=True)
 class StateDecl:
-    """``state s := expr;``: module state at the top level, role state in a role."""
+    """``state s := expr;``: module state at the top level, role state in a role;
+    ``travelling state s := expr;``: module state that travels with the program."""
 
     name: Name
     value: Expr
     span: Span
+    travelling: bool = False
 
 
 @fast_init

@@ -125,7 +125,9 @@ class AstBuilder:
         return ast.ConstantDef(_name(c[1]), c[3], _span(c[0], c[4]))
 
     def state_decl(self, c: list) -> ast.StateDecl:
-        return ast.StateDecl(_name(c[1]), c[3], _span(c[0], c[4]))
+        travelling, rest = c[0], c[1:]
+        first = travelling if travelling is not None else rest[0]
+        return ast.StateDecl(_name(rest[1]), rest[3], _span(first, rest[4]), travelling is not None)
 
     def invariant(self, c: list) -> ast.Invariant:
         return ast.Invariant(c[0], _span(c[0], c[1]))

@@ -19,7 +19,7 @@ TOKEN_TEXT = {
 }
 EXPRESSION_START = frozenset({"NAME", "INT", "SELF", "LPAR", "MINUS", "BANG", "NEIGHBOURS", "CHILDREN"})
 OPERATORS = frozenset({"OR", "AND", "EQ", "NE", "LE", "GE", "LT", "GT", "PLUS", "MINUS"})
-MEMBER_START = frozenset({"ABSTRACT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND", "STATE"})
+MEMBER_START = frozenset({"ABSTRACT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND", "STATE", "TRAVELLING"})
 _COMPARISONS = frozenset({"<", ">", "<=", ">="})
 
 

@@ -58,3 +58,24 @@ def test_the_gradient_follows_a_cut() -> None:
     values = result.values("hops")
     assert all(values[m] == 127 for m, d in distances.items() if d >= 4), values
     assert all(values[m] == d for m, d in distances.items() if d <= 3), values
+
+
+@pytest.mark.parametrize("loss", LOSSES)
+@pytest.mark.parametrize("config", STRUCTURES)
+def test_the_travelling_hop_count_grows_by_one_per_module(config: str, loss: float) -> None:
+    """Every module's hop is one more than that of the neighbour that first brought it the program
+    (its parent in the tree), so it is the length of the path the program first took: the hop
+    distance without loss, at least that with loss."""
+    result = run("hops.rdcd", config, seed=11, loss=loss)
+    shape, hops = result.structure, result.values("hop")
+    distances = hop_distances(shape)
+    assert hops[shape.entry] == 0
+    for module, runtime in result.world.runtimes.items():
+        if module == shape.entry:
+            continue
+        parent, _ = shape.neighbours(module)[runtime.parent_channel]
+        assert hops[module] == hops[parent] + 1, (module, parent)
+        assert hops[module] >= distances[module]
+    if loss == 0.0:
+        assert hops == distances
+    assert result.errors() == {}

@@ -17,7 +17,7 @@ PUNCT = ["{", "}", "(", ")", ",", ";", ".", ":=", "||", "&&", "==", "!=", "<", "
 
 # the programs the checker's and the VM's fuzzers mutate: the two examples and Figure 5 as printed
 MUTATED_EXAMPLES = ("obstacle_avoidance.rdcd", "snake_wave.rdcd", "figure5_verbatim.rdcd", "gradient.rdcd",
-                    "count.rdcd", "lowest.rdcd")
+                    "hops.rdcd", "count.rdcd", "lowest.rdcd")
 
 
 def example_sources() -> list[str]:

@@ -15,7 +15,7 @@ from vm.isa.assembler import assemble
 from vm.isa.opcodes import STATE_SLOTS, saturated
 from vm.isa.targets import ORIGINAL
 from vm.isa.verifier import verify
-from vm.packets import VALUE, PacketError, ValuePacket, decode, encode, make_header
+from vm.packets import PROGRAM, VALUE, PacketError, ProgramPacket, ValuePacket, decode, encode, make_header
 from vm.roles import RoleTable
 from vm.runtime import ModuleRuntime
 
@@ -68,10 +68,15 @@ def test_the_first_store_is_published_even_when_it_keeps_the_value() -> None:
     assert [(p.index, p.value) for _, p in values_sent(vm)] == [(0, 0)]
 
 
-def test_the_parent_flag_marks_the_channel_of_the_first_packet() -> None:
+def test_the_parent_is_the_channel_of_the_first_program() -> None:
     vm = ModuleRuntime(FakeHal(connected={2, 6}), ROLES, module_id=1)
     header = make_header(VALUE, 1, 0, 1, 1, nav.UP_DOWN, 6)  # a neighbour's value: sets the frame
-    vm.receive(2, encode(ValuePacket(header, 0, False, 5)))
+    vm.receive(6, encode(ValuePacket(header, 0, False, 5)))
+    vm.step()
+    assert vm.parent_channel is None  # a value packet is not a program
+    program = encode(ProgramPacket(make_header(PROGRAM, 7, 0, 1, 1, nav.UP_DOWN, 2),
+                                   assemble("END_TERMINATE")))
+    vm.receive(2, program)
     vm.step()
     assert vm.parent_channel == 2
     stack_of("PUSH 3\nSTORE_STATE 1", vm)
@@ -188,3 +193,32 @@ def test_value_packets_decode_or_fail_cleanly(body: bytes) -> None:
         assert isinstance(packet, ValuePacket) and encode(packet) == raw
     else:
         assert isinstance(packet, PacketError)
+
+
+def test_a_program_carries_a_value_that_it_can_change() -> None:
+    vm = module(connected={0, 4})
+    code = assemble("LOAD_DATA\nSTORE_STATE 0\nLOAD_DATA\nPUSH 1\nADD\nSTORE_DATA\nMIGRATE_CONTINUE\nDATA 5")
+    vm.inject(code)
+    vm.step()
+    assert vm.state[0] == 5
+    sent = [decode(raw) for _, raw in vm.hal.sent]  # type: ignore[attr-defined]
+    programs = [p for p in sent if type(p).__name__ == "ProgramPacket"]
+    assert programs and all(p.code[-1] == 6 and p.code[:-1] == code[:-1] for p in programs)
+
+
+def test_copies_that_differ_only_in_the_carried_value_are_one_program() -> None:
+    from vm.runtime_node import program_key
+
+    code = assemble("LOAD_DATA\nSTORE_STATE 0\nMIGRATE_CONTINUE\nDATA 5")
+    other = code[:-1] + bytes((9,))
+    assert program_key(code) == program_key(other) != code
+    plain = assemble("PUSH 69\nPUSH 5\nEND_TERMINATE")  # bytes 69, 5 inside: not a DATA ending
+    assert program_key(plain) == plain
+
+
+def test_data_must_end_the_fragment_and_is_never_run() -> None:
+    assert verify(assemble("LOAD_DATA\nSTORE_DATA\nEND_TERMINATE\nDATA 1")) == []
+    assert verify(assemble("PUSH 1\nDATA 1"))  # control falls into it
+    assert verify(assemble("END_TERMINATE\nDATA 1\nEND_TERMINATE"))  # not last
+    vm = module()
+    assert stack_of("LOAD_DATA", vm) == [0]  # a program that carries nothing reads 0

@@ -135,6 +135,14 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
        "end the run; run this program again when a state or a neighbour's published value of this "
        "module changes", ext=True, no_fallthrough=True),
     _i(68, "SET_LED_STACK", (), 1, 0, "pop v; show v on the LEDs", ext=True),
+    _i(69, "DATA", (_O.BYTE,), 0, 0,
+       "the value the program carries (only as its last instruction, never run): it travels with the "
+       "program, and copies that differ only in it are the same program", ext=True, no_fallthrough=True),
+    _i(70, "LOAD_DATA", (), 0, 1, "push the value the running program carries (0 if it carries none)",
+       ext=True),
+    _i(71, "STORE_DATA", (), 1, 0,
+       "pop v; the running program carries v from now on, to the modules it migrates to (no-op if it "
+       "carries no value)", ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -142,6 +150,19 @@ BY_OPCODE: dict[int, Instruction] = {ins.opcode: ins for ins in INSTRUCTIONS}
 BY_NAME: dict[str, Instruction] = {ins.name: ins for ins in INSTRUCTIONS}
 
 PUSH_SMALL_BASE = 128  # byte 128 + v pushes v for 0 <= v <= 127
+DATA_OPCODE = BY_NAME["DATA"].opcode
+
+
+def carried_data_offset(code: bytes) -> int | None:
+    """Offset of the value a program carries: the operand of a DATA instruction that ends it."""
+    if len(code) < 2 or code[-2] != DATA_OPCODE:
+        return None
+    offset = 0
+    while offset < len(code) - 2:  # the DATA must start on an instruction boundary
+        op = code[offset]
+        info = BY_OPCODE.get(op) if op < PUSH_SMALL_BASE else None
+        offset += info.size if info is not None else 1
+    return len(code) - 1 if offset == len(code) - 2 else None
 
 
 def saturated(value: int) -> int:

@@ -59,6 +59,21 @@ def verify(code: bytes, *, strict: bool = False, max_size: int = MAX_FRAGMENT,
     return _verify(code, rules, depth=0)
 
 
+def _data_unreachable(decoded: list[Decoded]) -> list[str]:
+    """Control never reaches the DATA that ends a fragment: nothing falls into it or jumps to it."""
+    if not decoded or decoded[-1].name != "DATA":
+        return []
+    data = decoded[-1].offset
+    before = decoded[-2] if len(decoded) > 1 else None
+    if before is None or before.info is None or not before.info.no_fallthrough or before.name == "DATA":
+        return [f"offset {data}: control falls into DATA, the value the program carries"]
+    for d in decoded:
+        if d.info is not None and Operand.TARGET in d.info.operands and \
+                d.operands[d.info.operands.index(Operand.TARGET)] == data:
+            return [f"offset {d.offset}: {d.name} jumps to DATA, the value the program carries"]
+    return []
+
+
 def _verify(code: bytes, rules: _Rules, depth: int) -> list[str]:
     if not code:
         return ["empty fragment"]
@@ -68,6 +83,9 @@ def _verify(code: bytes, rules: _Rules, depth: int) -> list[str]:
     errors: list[str] = []
     for d in decoded:
         errors.extend(_check_instruction(d, code, rules))
+        if d.name == "DATA" and d.offset != len(code) - 2:
+            errors.append(f"offset {d.offset}: DATA (the value a program carries) must end the fragment")
+    errors.extend(_data_unreachable(decoded))
     if errors:
         return errors
     at = {d.offset: d for d in decoded}
