@@ -133,3 +133,34 @@ def assume_role_blocks(before: str) -> list[str]:
         if depth >= 0:
             found.append(match.group(1))
     return found
+
+
+METHOD_HEADER = re.compile(r"\b([A-Za-z_]\w*)\s*\(([^()]*)\)\s*\{")
+NOT_METHODS = frozenset({"if", "else", "role", "deployment"})
+VALUES_BEFORE = re.compile(r"\b(neighbours|children)\s*(\([^()]*\))?\s*\.\s*\Z")
+
+
+def enclosing_parameters(before: str) -> list[str]:
+    """The parameters of the method whose body the cursor is in (read from its header)."""
+    tail = before[before.rfind("role"):] if "role" in before else before
+    found: list[str] = []
+    for match in METHOD_HEADER.finditer(tail):
+        if match.group(1) in NOT_METHODS:
+            continue
+        depth = 0
+        for char in tail[match.end():]:
+            if char == "{":
+                depth += 1
+            elif char == "}":
+                depth -= 1
+                if depth < 0:
+                    break
+        if depth >= 0:
+            found = [p.strip() for p in match.group(2).split(",")
+                     if re.fullmatch(r"[A-Za-z_]\w*", p.strip())]
+    return found
+
+
+def after_values(before: str) -> bool:
+    """The cursor follows ``neighbours.``, ``neighbours(…).`` or ``children.``: a module state."""
+    return VALUES_BEFORE.search(before[-200:]) is not None
