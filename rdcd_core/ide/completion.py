@@ -33,6 +33,8 @@ Items = list[CompletionItem]
 MEMBER_START_KEYWORDS = ("abstract", "constant", "state", "startup", "behavior", "command", "self", "if")
 TOP_KEYWORDS = ("abstract", "role", "state", "deployment")
 AGGREGATES = ("min", "max", "count", "sum")
+STATE_NAME = re.compile(r"\bstate\s+\Z")
+INITIAL_VALUE = re.compile(r"\bstate\s+[A-Za-z_]\w*\s*:=[^;{}]*\Z")  # a constant int: no state
 
 
 def complete(text: str, offset: int, model: Model | None) -> tuple[int, list[CompletionItem]]:
@@ -57,6 +59,10 @@ def _items(context: CursorContext, model: Model | None) -> list[CompletionItem]:
         listed = set(context.before[context.before.rfind("deployment"):].replace(",", " ").split())
         return [item for item in role_items(model, lambda kind: kind is RoleKind.CONCRETE)
                 if item.label not in listed]
+    if STATE_NAME.search(context.before[-200:]):
+        return []  # naming a new state: nothing to offer
+    if INITIAL_VALUE.search(context.before[-200:]):
+        return constant_items(context, model, Type.INT) + predefined_items(Type.INT)
     call = context.call
     if call is not None:
         special = _argument_items(context, model)

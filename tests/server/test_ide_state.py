@@ -396,3 +396,48 @@ def test_state_features_survive_broken_state_text() -> None:
         symbols.document_symbols(analysis)
         folding.folding_ranges(analysis)
         inlay.fragment_hints(analysis)
+
+
+# -- code actions and naming positions ---------------------------------------------------------
+def fixed_by(text: str, title: str) -> str:
+    from rdcd_core.ide import actions
+    from rdcd_core.source import Span
+
+    found = [a for a in actions.code_actions(analyze(text), Span(0, len(text))) if a.title == title]
+    assert len(found) == 1, [a.title for a in actions.code_actions(analyze(text), Span(0, len(text)))]
+    for edit in sorted(found[0].fix.edits, key=lambda e: e.span.start, reverse=True):
+        text = text[:edit.span.start] + edit.new_text + text[edit.span.end:]
+    return text
+
+
+UNDECLARED = "// A counter.\nrole A {\n    behavior b() { hops := hops + 1; }\n}\ndeployment { A }\n"
+
+
+def test_code_actions_declare_an_unknown_state() -> None:
+    assert "E702" in codes(UNDECLARED)
+    module = fixed_by(UNDECLARED, "declare module state 'hops'")
+    assert module.startswith("// A counter.\nstate hops := 0;\n\nrole A {")
+    assert "E702" not in codes(module) and not analyze(module).model.has_errors  # type: ignore[union-attr]
+    role = fixed_by(UNDECLARED, "declare role state 'hops' in 'A'")
+    assert "role A {\n    state hops := 0;\n    behavior b()" in role  # the members' indentation
+    assert not analyze(role).model.has_errors  # type: ignore[union-attr]
+    beside = "state x := 1;\n" + UNDECLARED.replace("hops + 1", "x", 1)
+    assert fixed_by(beside, "declare module state 'hops'").startswith("state x := 1;\nstate hops := 0;\n")
+
+
+def test_code_actions_do_not_declare_state_in_a_mixin() -> None:
+    from rdcd_core.ide import actions
+    from rdcd_core.source import Span
+
+    text = ("role W { startup s() { self.assumeRole(M, { self.sleep(); }); } }\n"
+            "role M modifies W { startup t() { n := 1; } }\ndeployment { W }\n")
+    titles = [a.title for a in actions.code_actions(analyze(text), Span(0, len(text)))]
+    assert "declare module state 'n'" in titles and not any("role state" in t for t in titles)
+
+
+def test_completion_where_a_state_is_named_or_initialised(names: Analysis) -> None:
+    text = PROGRAM.replace("  constant k := 2;\n", "  constant k := 2;\n  state fresh := \n", 1)
+    offset = text.index("fresh := ") + len("fresh := ")
+    assert set(complete_at(text, offset, names)) == {"k"}  # a constant int: no state, no parameter
+    text = PROGRAM.replace("  constant k := 2;\n", "  constant k := 2;\n  state \n", 1)
+    assert complete_at(text, text.index("state \n") + 6, names) == {}

@@ -192,3 +192,18 @@ def test_formatting_state_over_lsp_is_idempotent(lsp: Session) -> None:
     again = lsp.request(types.TEXT_DOCUMENT_FORMATTING, types.DocumentFormattingParams(
         text_document=doc(uri), options=options))
     assert not again
+
+
+def test_code_action_declares_an_unknown_state(lsp: Session) -> None:
+    from tests.server.test_lsp_features import code_actions
+
+    uri = "file:///virtual/state-action.rdcd"
+    text = "role A {\n  behavior b() { hops := hops + 1; }\n}\ndeployment { A }\n"
+    published = lsp.open(uri, text)
+    assert "E702" in [d.code for d in published]
+    actions = code_actions(lsp, uri, text, published)
+    titles = {a.title: a for a in actions}
+    assert {"declare module state 'hops'", "declare role state 'hops' in 'A'"} <= set(titles)
+    fixed = apply_edits(text, titles["declare module state 'hops'"].edit.changes[uri])
+    assert fixed.startswith("state hops := 0;\n\nrole A {")
+    assert not [d for d in lsp.replace_all(uri, fixed) or [] if d.severity == types.DiagnosticSeverity.Error]
