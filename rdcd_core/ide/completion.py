@@ -13,6 +13,7 @@ from rdcd_core.ide.context import (
     enclosing_parameters,
     in_deployment,
     previous_word,
+    role_tail,
 )
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES, Primitive, lookup_function, lookup_self
 from rdcd_core.semantics.model import Model, RoleKind
@@ -94,6 +95,10 @@ def compared_type(context: CursorContext, model: Model | None) -> Type | None:
         constant = model.roles[role].constants.get(name)
         if constant is not None and constant.value is not None:
             return constant.value.type
+        if name in model.roles[role].states:
+            return Type.INT
+    if model is not None and name in model.states or name in enclosing_parameters(context.before):
+        return Type.INT
     return None
 
 
@@ -109,6 +114,8 @@ def _argument_items(context: CursorContext, model: Model | None) -> list[Complet
         return mixin_items(model, context.role)
     if call.form == "function" and call.callee == "connected_role" and call.arg_index == 1:
         return role_items(model, lambda kind: True)
+    if call.form == "function" and call.callee == "neighbours":
+        return predefined_items(Type.DIR)  # or a connector number 0..7
     if call.form == "function" and call.callee in AGGREGATES and call.arg_index == 0:
         values = [CompletionItem("neighbours", "keyword", "the neighbours' values of a module state",
                                  "neighbours.", "`neighbours.s`, `neighbours(DOWN).s`, `neighbours(3).s`"),
@@ -161,7 +168,7 @@ def _visible_roles(context: CursorContext, model: Model | None) -> list[str]:
     roles = [context.role]
     if context.role_modifies:
         roles.append(context.role_modifies)
-    tail = context.before[context.before.rfind("role"):]
+    tail = role_tail(context.before)
     roles = [m for m in reversed(assume_role_blocks(tail)) if m in model.roles] + roles
     return roles
 

@@ -36,10 +36,21 @@ class CursorContext:
     call: CallContext | None
 
 
+def role_tail(before: str) -> str:
+    """The text from the last role header on ("" when there is none). Searched backwards, and
+    not fooled by names that contain "role" (``connected_role`` in a method body)."""
+    position = before.rfind("role")
+    while position >= 0:
+        boundary = position == 0 or not (before[position - 1].isalnum() or before[position - 1] == "_")
+        if boundary and ROLE_HEADER.match(before, position):
+            return before[position:]
+        position = before.rfind("role", 0, position)
+    return ""
+
+
 def enclosing_role(before: str) -> tuple[str | None, str | None]:
     """The last role header before the cursor, with the role it modifies (if a mixin)."""
-    matches = list(ROLE_HEADER.finditer(before[before.rfind("role"):] if "role" in before else ""))
-    last = matches[-1] if matches else None
+    last = ROLE_HEADER.match(role_tail(before))
     if last is None:
         return None, None
     return last.group(1), last.group(4) if last.group(3) == "modifies" else None
@@ -142,7 +153,7 @@ VALUES_BEFORE = re.compile(r"\b(neighbours|children)\s*(\([^()]*\))?\s*\.\s*\Z")
 
 def enclosing_parameters(before: str) -> list[str]:
     """The parameters of the method whose body the cursor is in (read from its header)."""
-    tail = before[before.rfind("role"):] if "role" in before else before
+    tail = role_tail(before)
     found: list[str] = []
     for match in METHOD_HEADER.finditer(tail):
         if match.group(1) in NOT_METHODS:

@@ -18,12 +18,22 @@ class SignatureInfo:
     active_parameter: int
 
 
+_WHERE = "where: dir | connector 0..7"
+NEIGHBOURS = SignatureInfo(
+    f"neighbours({_WHERE}).s",
+    "The values of module state s published by the neighbours on the connectors facing a direction "
+    "(UP, EAST, …), or by the neighbour on one connector; an argument of min, max, count or sum.",
+    ((len("neighbours("), len("neighbours(") + len(_WHERE)),), 0)
+
+
 def signature_help(text: str, offset: int, model: Model | None = None) -> SignatureInfo | None:
     """``model`` (the last good one) is needed only for the program's own methods and commands."""
     context = cursor_context(text, offset)
     call = context.call
     if call is None:
         return None
+    if call.form == "function" and call.callee == "neighbours":
+        return NEIGHBOURS
     primitive = None
     if call.form == "self":
         primitive = lookup_self(call.callee)

@@ -441,3 +441,29 @@ def test_completion_where_a_state_is_named_or_initialised(names: Analysis) -> No
     assert set(complete_at(text, offset, names)) == {"k"}  # a constant int: no state, no parameter
     text = PROGRAM.replace("  constant k := 2;\n", "  constant k := 2;\n  state \n", 1)
     assert complete_at(text, text.index("state \n") + 6, names) == {}
+
+
+def test_neighbours_filter_completion_and_signature(names: Analysis) -> None:
+    edited = PROGRAM.replace("max(children.hops)", "max(neighbours(", 1)
+    offset = edited.index("max(neighbours(") + 15
+    found = complete_at(edited, offset, names)
+    assert {"DOWN", "UP", "EAST"} <= set(found) and "hops" not in found and "EAST_WEST" not in found
+    info = signature.signature_help(edited, offset, names.model)
+    assert info is not None and info.label.startswith("neighbours(")
+    start, end = info.parameters[0]
+    assert info.label[start:end] == "where: dir | connector 0..7"
+
+
+def test_completion_after_comparison_with_a_state(names: Analysis) -> None:
+    behaviour = "self.z() == 0;\n  behavior w() { if (seen == ) self.sleep(); }"
+    edited = PROGRAM.replace("self.z() == 0;", behaviour, 1)
+    found = complete_at(edited, edited.index("seen == ") + 8, names)
+    assert {"seen", "hops", "k"} <= set(found) and "EAST" not in found  # ints only
+
+
+def test_parameters_are_found_after_connected_role_in_the_body() -> None:
+    text = ("role A {\n  command go(v) {\n    if (sizeof(connected_role(DOWN, A)) > 0)\n"
+            "      self.turnContinuously(\n  }\n}\ndeployment { A }\n")
+    offset = text.index("turnContinuously(") + 17
+    found = {i.label for i in completion.complete(text, offset, analyze(text).model)[1]}
+    assert "v" in found
