@@ -7,6 +7,7 @@ import re
 
 from rdcd_core.ide.analysis import Analysis
 from rdcd_core.ide.states import assigning_methods, parameter_info, signature_text, state_symbol
+from rdcd_core.semantics.model import RoleKind
 from rdcd_core.source import Span
 
 KEYWORD_DOCS = {
@@ -76,9 +77,12 @@ def state_hover(analysis: Analysis, target: str) -> str | None:
         lines = [f"**module state** `{name}` := {symbol.initial}", "",
                  f"kept across role changes; {symbol.initial} when the program starts on the module"]
     else:
-        family = [r for r in model.subroles(symbol.owner) if r != symbol.owner]
-        takes = f"`{symbol.owner}`" + (" or a sub-role (" + ", ".join(f"`{r}`" for r in family) + ")"
-                                       if family else "")
+        family = ", ".join(f"`{r}`" for r in model.subroles(symbol.owner) if r != symbol.owner)
+        owner = model.roles.get(symbol.owner)
+        if owner is not None and owner.kind is RoleKind.ABSTRACT:  # never taken itself
+            takes = f"a role that extends `{symbol.owner}`" + (f" ({family})" if family else "")
+        else:
+            takes = f"`{symbol.owner}`" + (f" or a sub-role ({family})" if family else "")
         lines = [f"**role state** `{name}` := {symbol.initial} of role `{symbol.owner}`", "",
                  f"back to {symbol.initial} whenever the module takes {takes}; inside "
                  "`self.assumeRole(M, …)` the module keeps its role's state"]

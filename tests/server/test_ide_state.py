@@ -64,12 +64,16 @@ def test_hover_module_state_at_declaration_and_use(names: Analysis) -> None:
 def test_hover_role_state_says_where_it_is_reset(names: Analysis) -> None:
     declared = hover_at(names, at("seen := 0"))
     assert "**role state** `seen` := 0 of role `Node`" in declared
-    assert "back to 0 whenever the module takes `Node` or a sub-role (`Wheel`, `Other`)" in declared
+    assert "back to 0 whenever the module takes a role that extends `Node` (`Wheel`, `Other`)" in declared
     assert "assigned in: `Node.turn()`, `Wheel.go()`" in declared
     assert "published" not in declared  # role state is never sent to neighbours
     assert hover_at(names, at("seen := k")) == declared  # a use in a sub-role: the same state
     mine = hover_at(names, at("mine := -1"))
     assert "back to -1 whenever the module takes `Other`;" in mine
+    concrete = analyze("role A { state n := 2; behavior b() { n := n + 1; } }\n"
+                       "role B extends A { self.z() == 0; }\ndeployment { B, A }\n")
+    text = hover_at(concrete, concrete.text.index("n :=") + 1)
+    assert "back to 2 whenever the module takes `A` or a sub-role (`B`)" in text
 
 
 def test_hover_parameters(names: Analysis) -> None:
