@@ -46,6 +46,8 @@ def rename(analysis: Analysis, offset: int, new_name: str) -> list[TextEdit]:
     if ref.kind == "role":
         if new_name in model.roles:
             raise RenameError(f"a role named '{new_name}' already exists")
+        if new_name in model.states or any(new_name in r.states for r in model.roles.values()):
+            raise RenameError(f"a state named '{new_name}' exists: a role name would clash with it")
     elif ref.kind == "state":
         _check_state_clash(model, ref.target, new_name)
     elif ref.kind == "parameter":

@@ -58,7 +58,9 @@ def assignment_starts(analysis: Analysis) -> set[int]:
     cached = analysis.cache.get("assignment_starts")
     if cached is None:
         cached = set()
-        if analysis.program is not None:
+        model = analysis.model
+        # a program without state (every program before state existed) costs no walk
+        if analysis.program is not None and (model is None or model.all_states()):
             for node in ast.walk(analysis.program):
                 if isinstance(node, ast.AssignStmt):
                     cached.add(node.name.span.start)

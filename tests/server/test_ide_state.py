@@ -193,6 +193,8 @@ def test_rename_state_and_parameter_everywhere(names: Analysis, needle: str, old
     ("a, b", "a", "b", "already has a parameter named 'b'"),
     ("k := 2", "k", "hops", "module state named 'hops'"),
     ("k := 2", "k", "seen", "already has a member named 'seen'"),
+    ("role Other", "Other", "hops", "a state named 'hops'"),
+    ("role Other", "Other", "seen", "a state named 'seen'"),
 ])
 def test_rename_refuses_clashes(names: Analysis, needle: str, old: str, new: str, reason: str) -> None:
     offset = PROGRAM.index(needle) + needle.index(old) + 1
