@@ -169,7 +169,28 @@ def enclosing_parameters(before: str) -> list[str]:
         if depth >= 0:
             found = [p.strip() for p in match.group(2).split(",")
                      if re.fullmatch(r"[A-Za-z_]\w*", p.strip())]
+            if _in_open_block(tail[match.end():], HANDLER):
+                found = []  # a handler runs later, without the method's arguments
     return found
+
+
+HANDLER = re.compile(r"self\s*\.\s*handleEvent\s*\([^{};]*\{")
+
+
+def _in_open_block(text: str, opener: re.Pattern[str]) -> bool:
+    """Some block that ``opener`` starts in ``text`` is still open at its end."""
+    for match in opener.finditer(text):
+        depth = 0
+        for char in text[match.end():]:
+            if char == "{":
+                depth += 1
+            elif char == "}":
+                depth -= 1
+                if depth < 0:
+                    break
+        if depth >= 0:
+            return True
+    return False
 
 
 def after_values(before: str) -> bool:

@@ -473,3 +473,13 @@ def test_parameters_are_found_after_connected_role_in_the_body() -> None:
     offset = text.index("turnContinuously(") + 17
     found = {i.label for i in completion.complete(text, offset, analyze(text).model)[1]}
     assert "v" in found
+
+
+def test_no_parameters_inside_an_event_handler() -> None:
+    text = ("role A {\n  command go(v) {\n    self.setLed(1);\n"
+            "    self.handleEvent(EVENT_PROXIMITY_0, { self.turnContinuously( });\n"
+            "    self.turnContinuously(\n  }\n}\ndeployment { A }\n")
+    model = analyze(text).model
+    inside = {i.label for i in completion.complete(text, text.index("turnContinuously( }") + 17, model)[1]}
+    after = {i.label for i in completion.complete(text, text.rindex("turnContinuously(") + 17, model)[1]}
+    assert "v" not in inside and "v" in after
