@@ -22,6 +22,8 @@ COMPLETION_KINDS = {
     "role": types.CompletionItemKind.Class,
     "mixin": types.CompletionItemKind.Interface,
     "constant": types.CompletionItemKind.Constant,
+    "state": types.CompletionItemKind.Variable,
+    "parameter": types.CompletionItemKind.Variable,
     "method": types.CompletionItemKind.Method,
     "command": types.CompletionItemKind.Event,
     "primitive": types.CompletionItemKind.Function,
@@ -162,7 +164,8 @@ def register_editing(server: RdcdServer) -> None:
         if located is None:
             return None
         document, _, offset = located
-        info = signature.signature_help(document.text, offset)
+        found = document.model_for_completion()  # never waits for a check
+        info = signature.signature_help(document.text, offset, found.model if found is not None else None)
         if info is None:
             return None
         parameters = [types.ParameterInformation(label=(a, b)) for a, b in info.parameters]

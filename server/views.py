@@ -19,6 +19,7 @@ SYMBOL_KINDS = {
     "role": types.SymbolKind.Class,
     "mixin": types.SymbolKind.Interface,
     "constant": types.SymbolKind.Constant,
+    "state": types.SymbolKind.Variable,
     "method": types.SymbolKind.Method,
     "deployment": types.SymbolKind.Namespace,
 }

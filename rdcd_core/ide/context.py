@@ -36,10 +36,21 @@ class CursorContext:
     call: CallContext | None
 
 
+def role_tail(before: str) -> str:
+    """The text from the last role header on ("" when there is none). Searched backwards, and
+    not fooled by names that contain "role" (``connected_role`` in a method body)."""
+    position = before.rfind("role")
+    while position >= 0:
+        boundary = position == 0 or not (before[position - 1].isalnum() or before[position - 1] == "_")
+        if boundary and ROLE_HEADER.match(before, position):
+            return before[position:]
+        position = before.rfind("role", 0, position)
+    return ""
+
+
 def enclosing_role(before: str) -> tuple[str | None, str | None]:
     """The last role header before the cursor, with the role it modifies (if a mixin)."""
-    matches = list(ROLE_HEADER.finditer(before[before.rfind("role"):] if "role" in before else ""))
-    last = matches[-1] if matches else None
+    last = ROLE_HEADER.match(role_tail(before))
     if last is None:
         return None, None
     return last.group(1), last.group(4) if last.group(3) == "modifies" else None
@@ -133,3 +144,55 @@ def assume_role_blocks(before: str) -> list[str]:
         if depth >= 0:
             found.append(match.group(1))
     return found
+
+
+METHOD_HEADER = re.compile(r"\b([A-Za-z_]\w*)\s*\(([^()]*)\)\s*\{")
+NOT_METHODS = frozenset({"if", "else", "role", "deployment"})
+VALUES_BEFORE = re.compile(r"\b(neighbours|children)\s*(\([^()]*\))?\s*\.\s*\Z")
+
+
+def enclosing_parameters(before: str) -> list[str]:
+    """The parameters of the method whose body the cursor is in (read from its header)."""
+    tail = role_tail(before)
+    found: list[str] = []
+    for match in METHOD_HEADER.finditer(tail):
+        if match.group(1) in NOT_METHODS:
+            continue
+        depth = 0
+        for char in tail[match.end():]:
+            if char == "{":
+                depth += 1
+            elif char == "}":
+                depth -= 1
+                if depth < 0:
+                    break
+        if depth >= 0:
+            found = [p.strip() for p in match.group(2).split(",")
+                     if re.fullmatch(r"[A-Za-z_]\w*", p.strip())]
+            if _in_open_block(tail[match.end():], HANDLER):
+                found = []  # a handler runs later, without the method's arguments
+    return found
+
+
+HANDLER = re.compile(r"self\s*\.\s*handleEvent\s*\([^{};]*\{")
+
+
+def _in_open_block(text: str, opener: re.Pattern[str]) -> bool:
+    """Some block that ``opener`` starts in ``text`` is still open at its end."""
+    for match in opener.finditer(text):
+        depth = 0
+        for char in text[match.end():]:
+            if char == "{":
+                depth += 1
+            elif char == "}":
+                depth -= 1
+                if depth < 0:
+                    break
+        if depth >= 0:
+            return True
+    return False
+
+
+def after_values(before: str) -> bool:
+    """The cursor follows ``neighbours.``, ``neighbours(…).`` or ``children.``: a module state."""
+    return VALUES_BEFORE.search(before[-200:]) is not None

@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 from rdcd_core.ide.analysis import Analysis
 from rdcd_core.ide.fragments import sizes_of_method, sizes_of_role
+from rdcd_core.ide.hover_state import keyword_hover, parameter_hover, state_hover
 from rdcd_core.ide.navigation import member_chain, split_target
+from rdcd_core.ide.states import signature_text
 from rdcd_core.module_api import lookup_function, lookup_self
 from rdcd_core.semantics.model import Model, RoleKind, Value
 from rdcd_core.source import Span
@@ -32,7 +34,10 @@ def describe_value(model: Model | None, value: Value | None) -> str:
 def hover(analysis: Analysis, offset: int) -> HoverResult | None:
     ref = analysis.reference_at(offset)
     model = analysis.model
-    if ref is None or model is None:
+    if ref is None:
+        keyword = keyword_hover(analysis, offset)
+        return HoverResult(*keyword) if keyword is not None else None
+    if model is None:
         return None
     text = None
     if ref.kind == "role":
@@ -45,6 +50,10 @@ def hover(analysis: Analysis, offset: int) -> HoverResult | None:
         text = primitive_hover(ref.target)
     elif ref.kind == "predefined":
         text = predefined_hover(ref.target)
+    elif ref.kind == "state":
+        text = state_hover(analysis, ref.target)
+    elif ref.kind == "parameter":
+        text = parameter_hover(analysis, ref.target)
     return HoverResult(text, ref.name.span) if text else None
 
 
@@ -122,13 +131,15 @@ def method_hover(analysis: Analysis, target: str) -> str | None:
         return None
     prefix = "abstract " if method.is_abstract else ""
     kind = "method" if method.kind == "plain" else f"{method.kind} method"
-    lines = [f"**{prefix}{kind}** `{role}.{name}()`", "", f"declared in `{method.owner}`"]
+    lines = [f"**{prefix}{kind}** `{role}.{signature_text(method.decl)}`", "",
+             f"declared in `{method.owner}`"]
     overriders = [r for r in model.subroles(role)
                   if r != role and name in model.roles[r].methods and model.roles[r].methods[name].owner == r]
     if overriders:
         lines.append("overridden in: " + ", ".join(f"`{r}`" for r in overriders))
     if method.kind == "command":
-        lines.append(f"runs on every module playing `{role}` or a sub-role when called as `{role}.{name}()`")
+        call = f"{role}.{name}({', '.join(p.text for p in method.decl.params)})"
+        lines.append(f"runs on every module playing `{role}` or a sub-role when called as `{call}`")
     sizes = sizes_of_method(analysis, model.concrete_subroles(role) or [role], name)
     if sizes:
         budget = analysis.compiled().program_budget
@@ -143,7 +154,10 @@ def primitive_hover(name: str) -> str | None:
     primitive = lookup_self(name) or lookup_function(name)
     if primitive is None:
         return None
-    return f"```rdcd\n{primitive.signature}\n```\n\n{primitive.doc}\n\n*Module API*"
+    signatures = primitive.signature
+    if primitive.aggregate:
+        signatures += f"\n{primitive.name}(v: values) -> {primitive.result.value}"
+    return f"```rdcd\n{signatures}\n```\n\n{primitive.doc}\n\n*Module API*"
 
 
 def predefined_hover(name: str) -> str | None:

@@ -8,6 +8,7 @@ the identity of the top-most role that declares the name.
 from __future__ import annotations
 
 from rdcd_core.ide.analysis import Analysis
+from rdcd_core.ide.states import assignment_starts, state_symbol
 from rdcd_core.semantics.model import Model, Reference
 from rdcd_core.source import Span
 
@@ -83,6 +84,11 @@ def definition(analysis: Analysis, offset: int) -> list[Span]:
             return [symbol.methods[name].decl.name.span]
         # fall back to any declaration of the same symbol
         return [r.name.span for r in occurrences(analysis, ref) if r.is_definition][:1]
+    if ref.kind == "state":
+        state = state_symbol(model, ref.target)
+        return [state.decl.name.span] if state is not None else []
+    if ref.kind == "parameter":
+        return [r.name.span for r in occurrences(analysis, ref) if r.is_definition][:1]
     return []
 
 
@@ -94,8 +100,9 @@ def references(analysis: Analysis, offset: int, include_declaration: bool = True
 
 
 def highlights(analysis: Analysis, offset: int) -> list[tuple[Span, bool]]:
-    """Every occurrence in this document, with True for declarations (shown as writes)."""
+    """Every occurrence in this document, with True for declarations and assignments (writes)."""
     ref = analysis.reference_at(offset)
     if ref is None:
         return []
-    return [(r.name.span, r.is_definition) for r in occurrences(analysis, ref)]
+    writes = assignment_starts(analysis) if ref.kind == "state" else set()
+    return [(r.name.span, r.is_definition or r.name.span.start in writes) for r in occurrences(analysis, ref)]
