@@ -32,7 +32,7 @@ class CompletionItem:
 
 Items = list[CompletionItem]
 MEMBER_START_KEYWORDS = ("abstract", "constant", "state", "startup", "behavior", "command", "self", "if")
-TOP_KEYWORDS = ("abstract", "role", "state", "deployment")
+TOP_KEYWORDS = ("abstract", "role", "state", "travelling", "deployment")
 AGGREGATES = ("min", "max", "count", "sum")
 STATE_NAME = re.compile(r"\bstate\s+\Z")
 INITIAL_VALUE = re.compile(r"\bstate\s+[A-Za-z_]\w*\s*:=[^;{}]*\Z")  # a constant int: no state

@@ -33,6 +33,10 @@ KEYWORD_DOCS = {
         "- in a role: **role state**, back to its initial value whenever the module takes the "
         "role or a sub-role\n\n"
         "Assign it with `s := expression;`."),
+    "travelling": (
+        "**travelling** `state s := value;` — module state whose value travels with the program: "
+        "each module it reaches first takes the value it brought, and the program's first fragment "
+        "may change it before it moves on (e.g. a hop count)."),
 }
 WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
@@ -73,7 +77,12 @@ def state_hover(analysis: Analysis, target: str) -> str | None:
     if symbol is None:
         return None
     name = symbol.name
-    if symbol.owner is None:
+    if symbol.owner is None and symbol.travelling:
+        lines = [f"**travelling state** `{name}` := {symbol.initial}", "",
+                 f"module state whose value travels with the program: {symbol.initial} where it enters; "
+                 "on every other module, the value the program brought from the neighbour that first "
+                 "sent it, as the code of the program's first fragment left it"]
+    elif symbol.owner is None:
         lines = [f"**module state** `{name}` := {symbol.initial}", "",
                  f"kept across role changes; {symbol.initial} when the program starts on the module"]
     else:

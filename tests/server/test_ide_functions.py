@@ -123,7 +123,7 @@ def test_completion_of_role_positions(example: Analysis) -> None:
     found = labels(second, second.index("connected_role(DOWN, ") + 21, example)
     assert {"Wheel", "Reverse", "Axle"} <= found
     top = labels("", 0, example)
-    assert top == {"abstract", "role", "state", "deployment"}
+    assert top == {"abstract", "role", "state", "travelling", "deployment"}
 
 
 def test_cursor_and_call_context() -> None:
