@@ -28,7 +28,7 @@ from rdcd_core.compiler.program import (
 )
 from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.compiler.verify import verify_fragments
-from rdcd_core.semantics.model import Model
+from rdcd_core.semantics.model import Model, StateSymbol
 from rdcd_core.source import LineIndex
 from vm.isa.targets import DEFAULT, ORIGINAL, TARGETS, Target
 
@@ -68,10 +68,17 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if text is not None:
         add_source_lines(planner.fragments, LineIndex(text))
     names = [f.name for f in planner.fragments]
-    states = [StateEntry(s.name, s.index, s.initial, s.owner, s.published)
+    states = [StateEntry(s.name, s.index, s.initial, s.owner, s.published, _holders(model, s))
               for s in sorted(model.all_states(), key=lambda s: s.index)]
     return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found),
                            target=chosen.name, states=states)
+
+
+def _holders(model: Model, state: StateSymbol) -> tuple[str, ...]:
+    """The roles that have a role state (its owner and the roles extending it); () for module state."""
+    if state.owner is None:
+        return ()
+    return tuple(sorted(r.name for r in model.roles.values() if r.states.get(state.name) is state))
 
 
 def _state_prologue(model: Model, ctxs: dict[str, Context]) -> list[Item]:
