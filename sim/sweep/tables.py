@@ -39,7 +39,7 @@ def rows(plan: Plan) -> Iterator[dict[str, Any]]:
         row = plan.store.read(key)
         if row is None:
             continue
-        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds)
+        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by)
         yield row
 
 
