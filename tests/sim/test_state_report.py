@@ -108,8 +108,12 @@ def simulate(tmp_path: Path, program: str, *options: str) -> tuple[dict, str]:
 
 
 def test_count_on_car7_the_entry_module_ends_knowing_seven(tmp_path: Path) -> None:
-    report, stdout = simulate(tmp_path, str(EXAMPLES / "count.rdcd"), "--world", "lattice",
-                              "--config", "car7", "--duration", "10")
+    # exactly the command of the issue: default duration (60 s) and obstacle
+    out = tmp_path / "r.json"
+    done = rdcd("simulate", "--world", "lattice", str(EXAMPLES / "count.rdcd"), "--config", "car7",
+                "--report", str(out))
+    assert done.returncode == 0, done.stderr
+    report, stdout = json.loads(out.read_text()), done.stdout
     entry = next(m for m in report["modules"] if m["id"] == report["entry"])
     assert entry["final_state"] == {"size": 7}
     assert entry["state_history"][-1][1:] == ["size", 7]
