@@ -9,6 +9,8 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from rdcd_core.compiler.program import CompiledProgram, StateEntry
 from sim import state_report as sr
@@ -156,3 +158,22 @@ def test_a_program_that_never_settles_ends_at_its_duration_and_says_so(tmp_path:
         assert len(m["state_history"]) <= sr.MAX_STATE_HISTORY
         assert 0 <= m["final_state"]["ticks"] <= 100
     assert "still changing" in summary(report)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(0.5, 3600), st.lists(st.lists(st.tuples(st.floats(0, 1), st.sampled_from([0, 1]),
+                                                         st.integers(-128, 127)), max_size=40), max_size=6))
+def test_unsettled_is_exactly_a_change_in_the_window(duration: float, modules: list) -> None:
+    entries = program(SIZE, StateEntry("hops", 1, 127, None, True))
+    report_modules = []
+    for mid, changes in enumerate(modules):
+        history = sorted((round(f * duration, 3), i, v) for f, i, v in changes)
+        rt = runtime([0, 0], history)
+        report_modules.append({"id": mid, **sr.module_fields(entries, rt, None)})
+        assert len(report_modules[-1]["state_history"]) == min(len(history), sr.MAX_STATE_HISTORY)
+    since = duration - sr.settle_window(duration)
+    found = {u["state"]: u["modules"] for u in sr.unsettled(report_modules, duration)}
+    for name, index in (("size", 0), ("hops", 1)):
+        late = [mid for mid, changes in enumerate(modules)
+                if any(round(f * duration, 3) > since + 1e-9 for f, i, _ in changes if i == index)]
+        assert found.get(name, []) == late
