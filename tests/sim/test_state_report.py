@@ -177,3 +177,21 @@ def test_unsettled_is_exactly_a_change_in_the_window(duration: float, modules: l
         late = [mid for mid, changes in enumerate(modules)
                 if any(round(f * duration, 3) > since + 1e-9 for f, i, _ in changes if i == index)]
         assert found.get(name, []) == late
+
+
+def test_a_role_state_is_kept_by_sub_roles_and_mixin_applications_not_by_other_roles() -> None:
+    from rdcd_core.compiler import compile_model
+    from rdcd_core.frontend import check_text
+
+    text = (EXAMPLES / "obstacle_avoidance.rdcd").read_text(encoding="utf-8")
+    text = text.replace("abstract role Wheel {\n", "abstract role Wheel {\n  state stops := 0;\n", 1)
+    text = text.replace("  command stop() {\n", "  command stop() {\n    stops := stops + 1;\n", 1)
+    result = check_text(text)
+    assert not result.model.has_errors
+    [stops] = compile_model(result.model, text=text).states
+    assert stops.owner == "Wheel"
+    assert stops.roles == ("LeftWheel", "Reverse@LeftWheel", "Reverse@RightWheel", "RightWheel", "Wheel")
+    for role in stops.roles:
+        assert sr.plays(stops, role)
+    for role in ("Axle", "Reverse", None):
+        assert not sr.plays(stops, role)
