@@ -47,6 +47,11 @@ class HeldBy:
     role: str
     holders: str  # a name in HOLDERS
 
+    def describe(self) -> str:
+        who = {"lowest": "exactly the lowest modules", "entry": "exactly the entry module",
+               "all": "every module", "none": "no module"}[self.holders]
+        return f"{self.role} held by {who}"
+
 
 def parse_state(table: Any, states: set[str] | None) -> tuple[tuple[StateCheck, ...], str | None]:
     """The checks of ``[success.state]``, or the problem (``key: message``) with it. ``states``: the

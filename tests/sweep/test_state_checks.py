@@ -54,6 +54,10 @@ def test_a_lattice_sweep_of_a_state_example_succeeds_everywhere(tmp_path: Path, 
     assert len(rows) == 6 and all(r["status"] == "ok" for r in rows.values())
     assert all(r["unsettled_states"] == 0 for r in rows.values())
     assert verdicts(out) == [True] * 6
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert {"gradient.rdcd": "every module&#x27;s hops == hop_distance",
+            "count.rdcd": "the entry module&#x27;s size == modules",
+            "lowest.rdcd": "Bottom held by exactly the lowest modules"}[program] in page
 
 
 def test_changed_criteria_judge_the_stored_runs_again_without_running_them(
