@@ -8,6 +8,7 @@ from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from rdcd_core.compiler.program import CompiledProgram
+from sim import state_report
 from vm.lattice.joint import wrap
 from vm.lattice.structure import AXIS_NAMES, Structure
 from vm.roles import NO_ROLE, RoleTable
@@ -51,11 +52,13 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
     modules = []
     for mid in sorted(structure.modules):
         spec, rt = structure.modules[mid], run.runtimes[mid]
+        final_role = role_name(roles, rt.role)
         modules.append({
             "id": mid,
             "lattice": list(spec.position),
             "orientation": AXIS_NAMES[spec.axis],
-            "final_role": role_name(roles, rt.role),
+            "final_role": final_role,
+            **state_report.module_fields(program, rt, final_role),
             "role_history": [[round(t, 3), role_name(roles, r)] for t, r in rt.role_history],
             "errors": _errors(program, rt),
         })
@@ -66,6 +69,7 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
         "vm": options.vm,
         "target": program.target,
         "config": structure.name or options.config,
+        "entry": structure.entry,
         "obstacle": options.obstacle,
         "duration_s": options.duration,
         "seed": options.seed,
@@ -73,6 +77,7 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
         "wall_time_s": round(wall_s, 3),
         "real_time_factor": round(options.duration / wall_s, 2) if wall_s > 0 else None,
         "modules": modules,
+        **state_report.report_fields(program, modules, options.duration),
         "fragments": [{"name": f.name, "size": f.size} for f in program.fragments],
         "messages": {k: run.counters.get(k, 0) for k in ("sent", "delivered", "dropped")},
         "events": run.events,
@@ -113,6 +118,7 @@ def summary(report: dict[str, Any]) -> str:
         f"messages: {report['messages']['sent']} sent, {report['messages']['delivered']} delivered, "
         f"{report['messages']['dropped']} dropped",
         f"obstacle detections: {report['obstacle_detections']}",
+        *state_report.summary_lines(report),
     ]
     traj = report["trajectory"]
     if traj:

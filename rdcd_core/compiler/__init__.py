@@ -28,7 +28,7 @@ from rdcd_core.compiler.program import (
 )
 from rdcd_core.compiler.roletable import build_role_table
 from rdcd_core.compiler.verify import verify_fragments
-from rdcd_core.semantics.model import Model
+from rdcd_core.semantics.model import Model, StateSymbol
 from rdcd_core.source import LineIndex
 from vm.isa.opcodes import DATA_OPCODE
 from vm.isa.targets import DEFAULT, ORIGINAL, TARGETS, Target
@@ -72,10 +72,21 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if text is not None:
         add_source_lines(planner.fragments, LineIndex(text))
     names = [f.name for f in planner.fragments]
-    states = [StateEntry(s.name, s.index, s.initial, s.owner, s.published)
+    states = [StateEntry(s.name, s.index, s.initial, s.owner, s.published, _holders(model, s, table.entries))
               for s in sorted(model.all_states(), key=lambda s: s.index)]
     return CompiledProgram(planner.fragments, table.entries, names, packet_budget, _dedupe(found),
                            target=chosen.name, states=states)
+
+
+def _holders(model: Model, state: StateSymbol, entries: list) -> tuple[str, ...]:
+    """The roles that have a role state: its owner, the roles extending it and the applications of a
+    mixin to one of them (``assumeRole`` keeps the base role's state); () for module state."""
+    if state.owner is None:
+        return ()
+    names = {r.name for r in model.roles.values() if r.states.get(state.name) is state}
+    ids = {e.id for e in entries if e.name in names}
+    names.update(e.name for e in entries if ids & set(e.instance_of))
+    return tuple(sorted(names))
 
 
 def _state_prologue(model: Model, ctxs: dict[str, Context]) -> list[Item]:

@@ -64,6 +64,7 @@ class StateEntry:
     initial: int
     owner: str | None  # the role of a role state; None for module state
     published: bool  # sent to the neighbours on every change
+    roles: tuple[str, ...] = ()  # of a role state: every role that has it (its owner and sub-roles)
 
 
 @dataclass(slots=True)

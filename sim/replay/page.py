@@ -46,6 +46,9 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
                         "pole": list(g.AXIS_VECTORS[spec.axis]),
                         "role_history": entry.get("role_history", []),
                         "final_role": entry.get("final_role"), "fragments": stored.get(mid, []),
+                        "final_state": entry.get("final_state", {}),
+                        "state_history": entry.get("state_history", []),
+                        "state_history_omitted": entry.get("state_history_omitted", 0),
                         "errors": len(entry.get("errors", []))})
     roles = sorted({r.name for r in program.roles})
     return {
@@ -56,6 +59,7 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
                  "entry": structure.entry, "sample_hz": recording.hz, "notes": recording.finish_notes(),
                  "messages": report.get("messages"), "collided": report.get("collided")},
         "roles": roles,
+        "states": report.get("states", []),
         "modules": modules,
         "obstacles": report.get("obstacles", []),
         "obstacle_height": _obstacle_height(),

@@ -19,9 +19,10 @@ from typing import Any
 from sim.sweep.grid import Axis, Grid, range_axis
 from sim.sweep.options import OptionSpec, check_values, compile_like_simulate, defaults, sweepable
 from sim.sweep.rows import CHECKS, METRICS
+from sim.sweep.state_checks import HeldBy, StateCheck, parse_held_by, parse_state
 
 TOP_KEYS = ("title", "program", "out", "time_limit_s", "parquet", "run", "grid", "success")
-SUCCESS_KEYS = ("checks", "min_turn_deg", "bounds")
+SUCCESS_KEYS = ("checks", "min_turn_deg", "bounds", "state", "held_by")
 RANGE_KEYS = ("from", "to", "step")
 DEFAULT_CHECKS = ("roles",)
 DEFAULT_MIN_TURN_DEG = 15.0
@@ -56,6 +57,8 @@ class Experiment:
     time_limit_s: float
     out: Path | None
     parquet: bool | None
+    state: tuple[StateCheck, ...] = ()  # [success.state] (sim/sweep/state_checks.py)
+    held_by: tuple[HeldBy, ...] = ()  # [success.held_by]
 
     @property
     def size(self) -> int:
@@ -93,6 +96,8 @@ class _Reader:
     def __init__(self, file: Path) -> None:
         self.file = file
         self.base = file.resolve().parent
+        self.states: set[str] = set()  # of the program, for [success.state]
+        self.roles: set[str] = set()
 
     def fail(self, key: str, problem: str) -> ExperimentError:
         return ExperimentError(f"{self.file}: {key}: {problem}")
@@ -120,9 +125,11 @@ class _Reader:
         digests = {vm: self.compiled(program_path, text, vm) for vm in dict.fromkeys(vms)}
         configs = self.configs(fixed, axes)
         checks, min_turn, bounds = self.success(data)
+        state, held_by = self.final_state(data)
         return Experiment(self.file, self.string(data, "title", self.file.stem), program_path, text, digests,
                           fixed, Grid(axes), configs, checks, min_turn, bounds,
-                          self.time_limit(data, fixed, axes), self.out(data), self.parquet(data))
+                          self.time_limit(data, fixed, axes), self.out(data), self.parquet(data),
+                          state, held_by)
 
     def known(self, table: dict[str, Any], allowed: tuple[str, ...], prefix: str) -> None:
         for key in table:
@@ -166,6 +173,8 @@ class _Reader:
             more = f" (and {len(errors) - 1} more; rdcd check shows them)" if len(errors) > 1 else ""
             target = f" (for --vm {vm})" if vm not in (None, "default") else ""
             raise self.fail("program", f"the program has errors{target}: {first}{more}")
+        self.states.update(s.name for s in program.states)
+        self.roles.update(r.name for r in program.roles)
         return program_digest(program)
 
     def value(self, key: str, raw: Any, spec: OptionSpec) -> Any:
@@ -263,6 +272,15 @@ class _Reader:
                 raise self.fail(key, "must be { min = number } or { max = number } or both")
             bounds[metric] = (bound.get("min"), bound.get("max"))
         return tuple(checks), float(turn), bounds
+
+    def final_state(self, data: dict[str, Any]) -> tuple[tuple[StateCheck, ...], tuple[HeldBy, ...]]:
+        table = self.table(data, "success")
+        state, problem = parse_state(table.get("state", {}), self.states)
+        if problem is None:
+            held_by, problem = parse_held_by(table.get("held_by", {}), self.roles)
+        if problem is not None:
+            raise ExperimentError(f"{self.file}: {problem}")
+        return state, held_by
 
     def time_limit(self, data: dict[str, Any], fixed: dict[str, Any], axes: tuple[Axis, ...]) -> float:
         durations = next((a.ends() for a in axes if a.name == "duration"), [fixed.get("duration", 60.0)])

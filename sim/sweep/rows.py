@@ -11,6 +11,7 @@ from typing import Any
 
 from sim import scenario
 from sim.report import distance, heading_change
+from sim.sweep.state_checks import HeldBy, StateCheck, facts, holds
 from vm.lattice.structure import Structure
 
 # Named checks of spec/atron.md; "turned" is judged from turn_deg against the experiment's angle.
@@ -19,7 +20,7 @@ CHECKS = ("roles", "detected", "no_collision", "drove_forward", "turned", "forwa
 STORED_CHECKS = tuple(c for c in CHECKS if c != "turned")
 METRICS = ("detections", "collided", "min_obstacle_distance_m", "distance_m", "heading_change_deg",
            "turn_deg", "max_heading_deviation_deg", "messages_sent", "messages_delivered",
-           "messages_dropped", "runtime_errors", "wall_time_s", "real_time_factor")
+           "messages_dropped", "runtime_errors", "unsettled_states", "wall_time_s", "real_time_factor")
 # Measures that depend on the machine, not on the run: left out when rows are compared.
 MACHINE_FIELDS = ("wall_time_s", "real_time_factor", "host", "finished_at")
 
@@ -49,6 +50,7 @@ def measures(report: dict[str, Any], structure: Structure) -> dict[str, Any]:
         "messages_delivered": report["messages"]["delivered"],
         "messages_dropped": report["messages"]["dropped"],
         "runtime_errors": sum(len(m["errors"]) for m in report["modules"]),
+        "unsettled_states": len(report.get("unsettled", [])),
         "wall_time_s": report["wall_time_s"],
         "real_time_factor": report["real_time_factor"],
     }
@@ -58,12 +60,15 @@ def measures(report: dict[str, Any], structure: Structure) -> dict[str, Any]:
               "straight": straight["straight"] if traj else False,
               "no_detection": straight["no_detection"]}
     row.update({f"check_{name}": bool(value) for name, value in checks.items()})
+    row["final"] = facts(report, structure)  # for [success.state] / [success.held_by]; not a column
     return row
 
 
 def succeeded(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
-              bounds: dict[str, tuple[float | None, float | None]]) -> bool:
-    """The experiment's verdict on a row: it ran, every named check holds, every bound holds."""
+              bounds: dict[str, tuple[float | None, float | None]], state: tuple[StateCheck, ...] = (),
+              held_by: tuple[HeldBy, ...] = ()) -> bool:
+    """The experiment's verdict on a row: it ran, every named check holds, every bound holds, every
+    final-state check holds."""
     if row.get("status") != "ok":
         return False
     for name in checks:
@@ -79,4 +84,4 @@ def succeeded(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
             return False
         if (low is not None and value < low) or (high is not None and value > high):
             return False
-    return True
+    return holds(row.get("final"), state, held_by)

@@ -39,7 +39,7 @@ def rows(plan: Plan) -> Iterator[dict[str, Any]]:
         row = plan.store.read(key)
         if row is None:
             continue
-        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds)
+        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by)
         yield row
 
 
@@ -122,8 +122,9 @@ def _arrow_type(pa: Any, name: str, plan: Plan) -> Any:
     if name == "success" or name.startswith("check_") or name == "collided":
         return pa.bool_()
     if name in METRICS:
-        return pa.int64() if name in ("detections", "messages_sent", "messages_delivered",
-                                      "messages_dropped", "runtime_errors") else pa.float64()
+        counts = ("detections", "messages_sent", "messages_delivered", "messages_dropped", "runtime_errors",
+                  "unsettled_states")
+        return pa.int64() if name in counts else pa.float64()
     return pa.string()
 
 

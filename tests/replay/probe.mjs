@@ -51,6 +51,17 @@ try {
       if (point) await page.mouse.click(point.x, point.y);
       out.modulePanel = await page.evaluate(() => document.querySelector(".rr-module").textContent);
     }
+    if (options.stateTimes) {
+      out.states = [];
+      for (const t of options.stateTimes) {
+        out.states.push(await page.evaluate(([t, id]) => {
+          const r = window.rdcdReplay;
+          r.seek(t);
+          return { t: r.time(), values: r.stateAt(id), panel: document.querySelector(".rr-module .rr-state")?.textContent ?? null,
+            sparklines: document.querySelectorAll(".rr-module .rr-spark-line").length };
+        }, [t, options.module]));
+      }
+    }
     if (options.event !== undefined) {
       await page.evaluate(() => { window.rdcdReplay.seek(0); });
       const selector = `.rr-side > .rr-events li[data-index="${options.event}"]`;

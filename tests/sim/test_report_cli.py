@@ -18,10 +18,11 @@ from tests.conftest import EXAMPLES
 from tests.sim.helpers import obstacle_program
 
 PROGRAM = str(EXAMPLES / "obstacle_avoidance.rdcd")
-MODULE_KEYS = {"id", "lattice", "orientation", "final_role", "role_history", "errors"}
+MODULE_KEYS = {"id", "lattice", "orientation", "final_role", "final_state", "state_history",
+               "state_history_omitted", "role_history", "errors"}
 TOP_KEYS = {"world", "config", "duration_s", "seed", "wall_time_s", "real_time_factor", "modules",
             "fragments", "messages", "events", "trajectory", "obstacle_detections", "min_obstacle_distance_m",
-            "collided"}
+            "collided", "entry", "states", "settle_window_s", "unsettled"}
 
 
 @pytest.fixture(scope="module")

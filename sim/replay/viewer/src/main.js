@@ -4,6 +4,7 @@ import { NO_ROLE_COLOUR } from "./constants.js";
 import { decode, lastAtOrBefore, readData, roleAt } from "./data.js";
 import { collectMarkers } from "./markers.js";
 import { Scene } from "./scene.js";
+import { stateAt, stateSection } from "./state.js";
 import { buildLayout, drawMarkers, el, fillLegend, formatTime } from "./ui.js";
 
 const EVENT_WINDOW = 1500; // event rows in the list at once (around the current time)
@@ -86,6 +87,7 @@ class Replay {
     this.ui.slider.value = String(this.t);
     this.ui.clock.textContent = formatTime(this.t);
     this.#listEvents(false);
+    this.#showState();
     this.render();
   }
 
@@ -125,7 +127,10 @@ class Replay {
     add("final role", module.final_role ?? "none");
     add("stored", module.fragments.length ? module.fragments.join(", ") : "nothing");
     add("errors", String(module.errors));
-    panel.append(facts, el("h3", "", "Role history"));
+    this.stateBox = el("div", "rr-state-box");
+    panel.append(facts, this.stateBox);
+    this.#showState();
+    panel.append(el("h3", "", "Role history"));
     const history = el("ol", "rr-history");
     if (!module.role_history.length) history.append(el("li", "", "no role was ever set"));
     for (const [t, role] of module.role_history) history.append(el("li", "", `${formatTime(t)} → ${role ?? "none"}`));
@@ -142,6 +147,19 @@ class Replay {
     this.#listEvents(true);
     return { id, lattice: module.lattice, roleHistory: module.role_history, fragments: module.fragments,
       text: panel.textContent };
+  }
+
+  // the selected module's state values at the current time, with their history
+  #showState() {
+    if (this.selected === null || !this.stateBox) return;
+    const module = this.data.modules[this.rec.index.get(this.selected)];
+    const section = stateSection(this.data, module, this.t, this.duration);
+    this.stateBox.replaceChildren(...(section ? [section] : []));
+  }
+
+  stateAt(id, t) {
+    const index = this.rec.index.get(id);
+    return index === undefined ? null : stateAt(this.data, this.data.modules[index], t ?? this.t);
   }
 
   // ---- events and source lines ---------------------------------------------------------------
@@ -248,6 +266,9 @@ function hook(replay) {
     colourOf: (id) => replay.scene.colourOf(id),
     roleColour: (role) => (role === null ? NO_ROLE_COLOUR : replay.scene.roleColour.get(role) ?? NO_ROLE_COLOUR),
     pick: (id) => replay.pick(id),
+    // {name: value} of module `id` at time t (default: the time shown); null: a role state of a
+    // role it does not play then; absent: unknown (its first changes were not recorded)
+    stateAt: (id, t) => replay.stateAt(id, t),
     screenPoint: (id) => replay.scene.screenPoint(id),
     // a point of the canvas where module `id` is visible (not hidden by another), or null
     visiblePoint: (id) => {

@@ -24,7 +24,7 @@ export function buildLayout(data) {
   const side = el("aside", "rr-side");
   const legend = el("div", "rr-legend");
   const modulePanel = el("section", "rr-module");
-  modulePanel.append(el("p", "rr-hint", "Click a module to see its id, lattice position, role history, events and stored fragments."));
+  modulePanel.append(el("p", "rr-hint", "Click a module to see its id, lattice position, state values, role history, events and stored fragments."));
   const sourcePanel = el("section", "rr-source");
   sourcePanel.append(el("p", "rr-hint", "Click an event to see its source line."));
   const eventsHeader = el("div", "rr-events-head");
