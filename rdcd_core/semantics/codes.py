@@ -227,8 +227,8 @@ BAD_TRAVELLING = define_code(
     "role A { travelling state hop := 0; }\ndeployment { A }")
 STATE_TOO_MANY = define_code(
     "E720", _E,
-    "more than 32 states, or more than 8 module states read by neighbours (the VM's state memory)",
-    "".join(f"state s{k} := 0;\n" for k in range(33)) + "role A { }\ndeployment { A }")
+    "more than 8 module states read by neighbours, or more than 24 others (the VM's 32 bytes of state)",
+    "".join(f"state s{k} := 0;\n" for k in range(25)) + "role A { }\ndeployment { A }")
 SHADOWS = define_code(
     "W701", _W, "a name hides a state, constant or parameter of the same name",
     "state speed := 1;\nrole A { state speed := 2; }\ndeployment { A }")

@@ -302,23 +302,27 @@ def check_shadowing(ctx: Context) -> None:
 
 
 def layout(ctx: Context) -> None:
-    """Bytes of the state memory: published module state first (0..7), then the rest; reports
-    what does not fit (E720) and states never read (W702)."""
+    """Bytes of the state memory: published module state in 0..7 (the VM sends those to the
+    neighbours on every change), the rest from 8 on, so that a state no neighbour reads is never
+    sent; reports what does not fit (E720) and states never read (W702)."""
     states = ctx.model.all_states()
     published = [s for s in states if s.published]
     rest = [s for s in states if not s.published]
-    for index, symbol in enumerate(published + rest):
+    for index, symbol in enumerate(published):
+        symbol.index = index
+    for index, symbol in enumerate(rest, start=PUBLISHED_STATES):
         symbol.index = index
     if len(published) > PUBLISHED_STATES:
         extra = published[PUBLISHED_STATES]
         ctx.report(codes.STATE_TOO_MANY, extra.decl.name.span,
                    f"{len(published)} module states are read by neighbours; the VM keeps the values of "
                    f"at most {PUBLISHED_STATES} per neighbour")
-    if len(states) > STATE_BYTES:
-        extra = (published + rest)[STATE_BYTES]
+    if len(rest) > STATE_BYTES - PUBLISHED_STATES:
+        extra = rest[STATE_BYTES - PUBLISHED_STATES]
         ctx.report(codes.STATE_TOO_MANY, extra.decl.name.span,
-                   f"{len(states)} states are declared; a module holds at most {STATE_BYTES} "
-                   "(one byte each)")
+                   f"{len(states)} states are declared, {len(rest)} of them not read by neighbours; a "
+                   f"module holds {STATE_BYTES} bytes of state, {PUBLISHED_STATES} of them for states "
+                   f"the neighbours read, so at most {STATE_BYTES - PUBLISHED_STATES} others")
     for symbol in states:
         if id(symbol) not in ctx.read_states and symbol.decl.name.text:
             ctx.report(codes.UNUSED_STATE, symbol.decl.name.span,

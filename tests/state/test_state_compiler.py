@@ -86,8 +86,8 @@ deployment { Node }
         world.inject(program.fragment(fragment).code)
     world.advance(5.0)
     entry = world.runtimes[0]
-    assert entry.state[:3] == [5, 7, 11]  # level; the command's argument; level + 1 + level
-    assert all(r.state[2] == 1 for m, r in world.runtimes.items() if m != 0)  # 0 + 1 + 0
+    assert entry.state[8:11] == [5, 7, 11]  # level; the command's argument; level + 1 + level
+    assert all(r.state[10] == 1 for m, r in world.runtimes.items() if m != 0)  # 0 + 1 + 0
 
 
 def test_a_constant_argument_is_an_operand() -> None:
@@ -101,3 +101,11 @@ def test_the_layout_is_in_the_json_output() -> None:
     program = compiled((EXAMPLES / "count.rdcd").read_text(encoding="utf-8"))
     assert to_json(program)["states"] == [
         {"name": "size", "index": 0, "initial": 1, "role": None, "published": True}]
+
+
+def test_only_states_the_neighbours_read_are_sent() -> None:
+    program = compiled("state ticks := 0;\nstate hops := 0;\n"
+                       "role R { behavior b() { ticks := ticks + 1; hops := min(neighbours.hops) + 1; "
+                       "self.sleep(); } }\ndeployment { R }")
+    layout = {s.name: (s.index, s.published) for s in program.states}
+    assert layout == {"hops": (0, True), "ticks": (8, False)}
