@@ -1,6 +1,7 @@
 """One row per run: its fields, how a report becomes a row, and how a row is judged.
 
-A row keeps the measures and the named checks of spec/atron.md (sim/scenario.py), not the verdict:
+A row keeps the measures and the named checks of the obstacle scenario (sim/scenario.py;
+docs/simulator.md says what each means), not the verdict:
 success is decided from the experiment's criteria when tables are written, so changing the
 criteria needs no run again.
 """
@@ -13,7 +14,7 @@ from sim import scenario
 from sim.report import distance, heading_change
 from vm.lattice.structure import Structure
 
-# Named checks of spec/atron.md; "turned" is judged from turn_deg against the experiment's angle.
+# Named checks of the obstacle scenario; "turned" is judged from turn_deg against the experiment's angle.
 CHECKS = ("roles", "detected", "no_collision", "drove_forward", "turned", "forward_again",
           "no_reverse_left", "straight", "no_detection")
 STORED_CHECKS = tuple(c for c in CHECKS if c != "turned")
@@ -64,19 +65,28 @@ def measures(report: dict[str, Any], structure: Structure) -> dict[str, Any]:
 def succeeded(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
               bounds: dict[str, tuple[float | None, float | None]]) -> bool:
     """The experiment's verdict on a row: it ran, every named check holds, every bound holds."""
-    if row.get("status") != "ok":
-        return False
+    return row.get("status") == "ok" and not failures(row, checks, min_turn_deg, bounds)
+
+
+def criteria(checks: tuple[str, ...], bounds: dict[str, tuple[float | None, float | None]]) -> list[str]:
+    """The names of an experiment's success criteria: its checks, then its bounded measures."""
+    return [*checks, *(name for name in bounds if name not in checks)]
+
+
+def failures(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
+             bounds: dict[str, tuple[float | None, float | None]]) -> list[str]:
+    """The criteria (names as in ``criteria``) a completed run does not meet; [] for a success."""
+    failed = []
     for name in checks:
         if name == "turned":
             turn = row.get("turn_deg")
             if turn is None or abs(turn) < min_turn_deg:
-                return False
+                failed.append(name)
         elif not row.get(f"check_{name}"):
-            return False
+            failed.append(name)
     for metric, (low, high) in bounds.items():
         value = row.get(metric)
-        if value is None or isinstance(value, str):
-            return False
-        if (low is not None and value < low) or (high is not None and value > high):
-            return False
-    return True
+        if (value is None or isinstance(value, str) or (low is not None and value < low)
+                or (high is not None and value > high)):
+            failed.append(metric)
+    return failed
