@@ -153,8 +153,10 @@ def _sweep(experiment, args: argparse.Namespace) -> int:  # noqa: ANN001 - sim.s
         done += f", {results.failed} failed"
     print(f"{done}; results in {results.out}/ (index.html, runs.csv, summary.csv)")
     if results.interrupted:
-        print("rdcd sweep: interrupted; every finished run is kept: run the same command again to go on",
-              file=sys.stderr)
+        # counted in the folder: a Ctrl-C can fall between a run's file and its count
+        kept = sum(results.plan.store.has(key) for key in results.plan.keys())
+        print(f"rdcd sweep: interrupted: {kept} of {results.total} runs are done and kept in {results.out}/; "
+              f"to go on, run again: {command}", file=sys.stderr)
         return 130
     return 0
 
