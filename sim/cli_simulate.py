@@ -54,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
-                             "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
+                             "ATRON firmware with its limits and quirks (docs/vm.md)")
     parser.add_argument("--target", choices=("default", "original"), default=None,
                         help="compile the program for this target (default: the one --vm names)")
 

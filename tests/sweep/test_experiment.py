@@ -42,8 +42,10 @@ def test_init_writes_the_example_and_its_program_which_load(tmp_path: Path,
 
 
 def test_the_example_cites_only_what_the_repository_has() -> None:
+    from tests.docs.references import dangling
+
     text = EXAMPLE.read_text(encoding="utf-8")
-    assert "spec/" not in text and "atron.md" not in text
+    assert list(dangling("sim/sweep/example.toml", text)) == []
     assert "docs/simulator.md" in text and (ROOT / "docs" / "simulator.md").is_file()
 
 
