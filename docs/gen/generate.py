@@ -64,7 +64,8 @@ def instructions_page() -> str:
     lines = [NOTE.format(source="vm/isa/opcodes.py and vm/isa/targets.py"),
              "# DCD-VM instructions\n\n",
              "Every instruction is one opcode byte followed by its operand bytes. The stack effect is\n",
-             "the number of values popped, then pushed. A byte of ", f"{PUSH_SMALL_BASE} or more that is not\n",
+             "the number of values popped, then pushed. A byte of ",
+             f"{PUSH_SMALL_BASE} or more that is not\n",
              f"an operand pushes the constant byte − {PUSH_SMALL_BASE}. *Extension* instructions are this\n",
              "project's additions; the columns on the right say which target executes each one\n",
              "(see [the DCD-VM](vm.md#the-two-targets)).\n\n",
@@ -81,8 +82,10 @@ def instructions_page() -> str:
                  f"(0..{255 - PUSH_SMALL_BASE}) | " + " | ".join("yes" for _ in targets) + " |\n")
     lines += ["\n## Operands\n\n", "| operand | one byte |\n", "| --- | --- |\n"]
     meanings = {"dir": "a direction code", "role": "a role id (1..14; 0 no role, 255 any role)",
-                "event": "an event number 0..7", "target": "a jump target: byte offset from the start of the fragment",
-                "start": "start offset of code embedded in the fragment", "size": "size of that embedded code",
+                "event": "an event number 0..7",
+                "target": "a jump target: byte offset from the start of the fragment",
+                "start": "start offset of code embedded in the fragment",
+                "size": "size of that embedded code",
                 "command": "a command number: built-in 1..5, user command k as 128 + k",
                 "byte": "any byte (a signed argument)", "zero": "padding, must be 0"}
     from vm.isa.opcodes import Operand
@@ -91,8 +94,8 @@ def instructions_page() -> str:
     lines += ["\n## Limits by target\n\n", "| target | operand stack | instructions per run | slot bytes | "
               "program slots | what it is |\n", "| --- | --- | --- | --- | --- | --- |\n"]
     for t in targets:
-        lines.append(f"| `{t.name}` | {t.max_stack} | {t.max_steps_per_run} | {t.slot_bytes} | {t.program_slots} | "
-                     f"{_cell(t.description)} |\n")
+        lines.append(f"| `{t.name}` | {t.max_stack} | {t.max_steps_per_run} | {t.slot_bytes} | "
+                     f"{t.program_slots} | {_cell(t.description)} |\n")
     return "".join(lines)
 
 
@@ -110,10 +113,12 @@ def cli_page() -> str:
     previous = os.environ.get("COLUMNS")
     os.environ["COLUMNS"] = HELP_WIDTH
     try:
-        parts = [NOTE.format(source="the argparse parsers (rdcd_core/cli.py, its subcommands, server/main.py)"),
+        source = "the argparse parsers (rdcd_core/cli.py, its subcommands, server/main.py)"
+        parts = [NOTE.format(source=source),
                  "# Command-line reference\n\n",
-                 "Every command's `--help`, as this version prints it. Exit status of every `rdcd` command:\n",
-                 "0 success, 1 the input has errors, 2 a usage or I/O error, 130 interrupted (Ctrl-C).\n",
+                 "Every command's `--help`, as this version prints it. Exit status of every `rdcd`\n",
+                 "command: 0 success, 1 the input has errors, 2 a usage or I/O error, 130 interrupted\n",
+                 "(Ctrl-C).\n",
                  "The guides say more: [checking](language.md), [simulating](simulator.md),\n",
                  "[sweeps](sweeps.md), [the replay](replay.md), [editors](editor.md).\n\n",
                  "## rdcd\n\n```text\n", _help(lambda: main(["--help"])), "```\n"]

@@ -9,7 +9,8 @@ from tests.docs.references import dangling, tracked_text_files
 
 
 def test_no_file_refers_to_a_file_the_repository_does_not_have() -> None:
-    found = [f"{name}:{line}: {ref}" for name, text in tracked_text_files() for line, ref in dangling(name, text)]
+    found = [f"{name}:{line}: {ref}" for name, text in tracked_text_files()
+             for line, ref in dangling(name, text)]
     assert found == [], "\n".join(found)
 
 
