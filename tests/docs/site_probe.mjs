@@ -25,8 +25,8 @@ try {
   page.on("response", (r) => { if (r.status() >= 400) errors.push(`HTTP ${r.status()}: ${r.url()}`); });
   for (const p of JSON.parse(pagesText)) {
     errors = [];
-    const response = await page.goto(base + p, { waitUntil: "load" });
-    await page.waitForTimeout(100);  // scripts that run after load report their errors too
+    // networkidle: the search worker and every late script have loaded (or failed) before the next page
+    const response = await page.goto(base + p, { waitUntil: "networkidle" });
     out.pages[p] = { status: response?.status() ?? 0, title: await page.title(), errors };
   }
   errors = [];
