@@ -19,3 +19,8 @@ def test_the_scan_finds_what_it_looks_for() -> None:
             "but docs/diagnostics.md, sim/params.py and vscode-extension/rdcd-0.1.0.vsix (built) exist")
     assert list(dangling("README.md", text)) == [(1, "spec/atron.md"), (1, "dcd-vm.md"),
                                                  (1, "../shared/DESIGN.md"), (1, "sim/no_such_module.py")]
+
+
+def test_a_bare_page_name_is_ours_only_inside_the_site() -> None:
+    assert list(dangling("docs/index.md", "see [the language](language.md)")) == []
+    assert list(dangling("sim/run.py", "# see language.md")) == [(1, "language.md")]

@@ -82,10 +82,9 @@ def _probe(base: str, pages: list[str], query: str) -> dict:
 
 def test_every_page_loads_cleanly_and_search_finds_assume_role(site: tuple[str, list[str]]) -> None:
     base, pages = site
-    expected = {"index.html", "getting-started/index.html", "tutorial/index.html", "language/index.html",
-                "module-api/index.html", "diagnostics/index.html", "vm/index.html", "instructions/index.html",
-                "cli/index.html", "simulator/index.html", "sweeps/index.html", "replay/index.html",
-                "editor/index.html", "architecture/index.html", "benchmarks/index.html"}
+    names = ("getting-started", "tutorial", "language", "module-api", "diagnostics", "vm", "instructions",
+             "cli", "simulator", "sweeps", "replay", "editor", "architecture", "benchmarks")
+    expected = {"index.html", *(f"{name}/index.html" for name in names)}
     assert expected <= set(pages)
     result = _probe(base, pages, "assumeRole")
     for page in pages:
