@@ -19,7 +19,8 @@ EXAMPLE = Path(__file__).resolve().parent / "example.toml"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", metavar="EXPERIMENT.toml", nargs="?", help="the experiment file")
-    parser.add_argument("--init", metavar="FILE", help="write a commented example experiment to FILE")
+    parser.add_argument("--init", metavar="FILE",
+                        help="write a commented example experiment to FILE and, beside it, its program")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="worker processes of the local cluster (default: one per core); 1: in this "
                              "process, without Dask")

@@ -33,9 +33,15 @@ def test_every_table_row_is_on_its_page() -> None:
         assert f"| {ins.opcode} | `{ins.name}` |" in isa
         assert f"| {ins.size} | {ins.pops} | {ins.pushes} |" in isa
     cli = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
-    for command in ("check", "compile", "fmt", "simulate", "sweep"):
-        assert f"usage: rdcd {command} " in cli
-    assert "usage: rdcd-lsp " in cli and "randomN-" in cli
+    from rdcd_core.cli import SUBCOMMANDS
+
+    for command in SUBCOMMANDS:
+        assert f"\n## rdcd {command}\n" in cli and f"```text\nrdcd {command} " in cli
+    for option in ("--packet-budget", "--max-packet", "--check", "--config", "--packet-loss",
+                   "--retry-failed",
+                   "--debounce-ms"):
+        assert f"| `{option}` |" in cli, option
+    assert "\n## rdcd-lsp\n" in cli and "randomN-seedS" in cli
 
 
 def test_a_changed_table_makes_the_page_stale(monkeypatch) -> None:  # noqa: ANN001

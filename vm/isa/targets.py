@@ -1,9 +1,10 @@
-"""The targets a program can be compiled for and a VM profile can behave like (docs/architecture.md, "Targets").
+"""The targets a program can be compiled for and a VM profile can behave like (docs/architecture.md,
+"Targets").
 
 Each target is one description: which opcodes it executes, its limits and its quirks. The compiler,
 the verifier and the VM profile read these; no ``if original:`` elsewhere. ``default`` is this
 project's corrected DCD-VM (docs/vm.md); ``original`` is the ATRON firmware of 2007 as
-docs/vm.md measures it.
+docs/vm.md describes it.
 """
 
 from __future__ import annotations
