@@ -128,9 +128,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str]) -> int:
-    name = "rdcd"
+    selected = _selected_command(argv)
+    name = f"rdcd {selected}" if selected else "rdcd"  # known before the slow imports a Ctrl-C may cut
     try:
-        parser = build_parser(_selected_command(argv))
+        parser = build_parser(selected)
         args = parser.parse_args(argv)  # --help and --version write to stdout too
         if args.command is None:
             parser.print_help(sys.stderr)

@@ -11,6 +11,7 @@ import json
 import logging
 import os
 import signal
+import threading
 import uuid
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -58,8 +59,9 @@ def local_cluster(workers: int) -> Iterator[Any]:
     # Ctrl-C is the driver's to handle (it stops, keeps every finished run and closes the cluster):
     # a worker that took it too would print Dask's KeyboardInterrupt traceback as it dies. Worker
     # processes inherit "ignore SIGINT" from the driver, which ignores it while the cluster starts
-    # them (a mask would not do: the spawned interpreters do not keep it), and the preload keeps
-    # it so in a worker the nanny starts again later. A Ctrl-C in that second is lost.
+    # them (a blocked mask would not do: the spawned interpreters do not keep it), and the preload
+    # keeps it so in a worker the nanny starts again later. A Ctrl-C while the cluster starts (a
+    # second or two; longer on a loaded machine) is lost: press it again.
     with dask.config.set(DRIVER_HISTORY):
         with _sigint_ignored():
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
@@ -72,11 +74,10 @@ def local_cluster(workers: int) -> Iterator[Any]:
 @contextmanager
 def _sigint_ignored() -> Iterator[None]:
     """SIGINT ignored by this process, and inherited so by the processes it starts, for the block."""
-    try:
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:  # not the main thread: signals are not this thread's to change
-        yield
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signals are the main thread's to change
         return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         yield
     finally:
