@@ -21,7 +21,11 @@ try {
   let errors = [];
   page.on("console", (m) => { if (m.type() === "error") errors.push(`console: ${m.text()}`); });
   page.on("pageerror", (e) => errors.push(`page: ${e.message ?? e}`));
-  page.on("requestfailed", (r) => errors.push(`request failed: ${r.url()} ${r.failure()?.errorText ?? ""}`));
+  // ERR_ABORTED: a request the next navigation cut short (the search worker's index, late), not a fault
+  page.on("requestfailed", (r) => {
+    const why = r.failure()?.errorText ?? "";
+    if (!why.includes("ERR_ABORTED")) errors.push(`request failed: ${r.url()} ${why}`);
+  });
   page.on("response", (r) => { if (r.status() >= 400) errors.push(`HTTP ${r.status()}: ${r.url()}`); });
   for (const p of JSON.parse(pagesText)) {
     errors = [];
