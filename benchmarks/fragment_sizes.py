@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/fragment_sizes.py [--max-packet N] [--target default|original] [FILE...]``
 (default: examples/*.rdcd, the default target).
-Reference for the obstacle program (dcd-vm.md §9): hand-written bytecode 7 fragments, 200 bytes,
+Reference for the obstacle program (docs/vm.md): hand-written bytecode 7 fragments, 200 bytes,
 largest 53; the paper's compiler about twice the fragments, each about 50 % larger.
 """
 

@@ -1,4 +1,4 @@
-"""The ``rdcd`` command line: the composition root (DESIGN.md).
+"""The ``rdcd`` command line: the composition root.
 
 Each subcommand lives in its own module that exposes ``add_arguments(parser)`` and
 ``run(args) -> int``; exit status 0 = success, 1 = the input has errors, 2 = usage or I/O error.
@@ -128,9 +128,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str]) -> int:
-    name = "rdcd"
+    selected = _selected_command(argv)
+    name = f"rdcd {selected}" if selected else "rdcd"  # known before the slow imports a Ctrl-C may cut
     try:
-        parser = build_parser(_selected_command(argv))
+        parser = build_parser(selected)
         args = parser.parse_args(argv)  # --help and --version write to stdout too
         if args.command is None:
             parser.print_help(sys.stderr)
@@ -142,8 +143,9 @@ def _run(argv: list[str]) -> int:
         status = int(args.handler(args))
         sys.stdout.flush()  # a full disk must show here, not after main has returned
         return status
-    except KeyboardInterrupt:
-        print("rdcd: interrupted", file=sys.stderr)
+    except KeyboardInterrupt:  # Ctrl-C: one line, no traceback; outputs are written atomically, so
+        # nothing half-written is left (rdcd sweep says itself what it kept)
+        _report(f"{name}: interrupted")
         return 130
     except OSError as error:  # an I/O error no subcommand caught: writing the output, mostly
         where = f"{error.filename}: " if error.filename else "cannot write the output: "

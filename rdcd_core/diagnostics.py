@@ -1,4 +1,4 @@
-"""Diagnostics are values (DESIGN.md rule 2): the same objects feed the CLI, the LSP and the tests.
+"""Diagnostics are values (docs/architecture.md rule 2): the same objects feed the CLI, the LSP and the tests.
 
 Codes are stable. Each layer registers its codes with ``define_code`` in its own ``codes.py``;
 ``all_codes()`` gathers them for ``docs/diagnostics.md`` and for tests.

@@ -72,7 +72,7 @@ def _check(text: str, packet_budget: int, previous: ParseResult | None,
 
 
 def _target_diagnostics(result: CheckResult, packet_budget: int, target: str) -> list[diag.Diagnostic]:
-    """The target limits (language.md §6): the program is compiled and kept on ``result``."""
+    """The target limits (docs/language.md): the program is compiled and kept on ``result``."""
     from rdcd_core.compiler import compile_model  # the layer above: imported when needed
 
     try:

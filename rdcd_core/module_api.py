@@ -1,5 +1,5 @@
-"""The Module API of language.md §5.4: the one table that the checker, the compiler, hover,
-completion, signature help and the editor grammar read (DESIGN.md rule 1)."""
+"""The Module API of docs/language.md: the one table that the checker, the compiler, hover,
+completion, signature help and the editor grammar read (docs/architecture.md rule 1)."""
 
 from __future__ import annotations
 

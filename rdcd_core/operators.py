@@ -1,5 +1,5 @@
-"""The operators of RDCD (language.md §5.2): one table that the checker's constant folding, the
-conflict analysis and the compiler's folding all read (DESIGN.md rule 1).
+"""The operators of RDCD (docs/language.md): one table that the checker's constant folding, the
+conflict analysis and the compiler's folding all read (docs/architecture.md rule 1).
 
 Values are the DCD-VM's: signed bytes. ``apply`` computes what the VM computes: ``+``, ``-`` and
 negation saturate at -128..127 like its ADD and SUB (``vm.isa.opcodes.saturated``); comparisons

@@ -5,7 +5,7 @@ One definition of "line" for the whole project, the Language Server Protocol's: 
 U+2029 and the other characters Python's ``str.splitlines`` also splits on are ordinary characters
 inside a line. Every place that splits a text into lines uses this module.
 
-Conversion to LSP positions (UTF-16 columns) happens only in ``server/`` (DESIGN.md rule 3).
+Conversion to LSP positions (UTF-16 columns) happens only in ``server/`` (docs/architecture.md rule 3).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The types of RDCD (language.md §5.2) and its predefined values (§5.3, encodings dcd-vm.md §5)."""
+"""The types of RDCD (docs/language.md) and its predefined values (§5.3, encodings docs/vm.md)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Offsets (code points) ↔ LSP positions in the negotiated encoding (UTF-16 by default).
 
-The only place that knows about UTF-16 (DESIGN.md rule 3).
+The only place that knows about UTF-16 (docs/architecture.md rule 3).
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from sim.config import MAX_SNAKE
+    from sim.config import MAX_RANDOM, MAX_SNAKE
     from sim.quiet import import_pybullet
 
     import_pybullet()  # before sim.obstacles: its banner kept off the terminal
@@ -26,9 +26,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("file", metavar="FILE", help="the RDCD program")
     parser.add_argument("--config", default="car7",
-                        help="shipped configuration (car7, car11, car8-cyclic, car17-wide, snakeN with "
+                        help="shipped configuration (car7, car11, car8-cyclic, car17-wide), snakeN with "
                              f"N = 1..{MAX_SNAKE} in the lattice world, 1..{physics_snake_max()} in the "
-                             "physics world) or a JSON file (default: car7)")
+                             f"physics world, randomN-seedS (N = 1..{MAX_RANDOM} modules grown from seed S, "
+                             "as in rdcd sweep) or a JSON file (default: car7)")
     parser.add_argument("--world", choices=("physics", "lattice"), default="physics",
                         help="PyBullet physics (default) or the physics-free lattice")
     parser.add_argument("--obstacle", default="wall:1.0", metavar="SPEC",
@@ -53,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
-                             "ATRON firmware with its limits and quirks (dcd-vm.md §10)")
+                             "ATRON firmware with its limits and quirks (docs/vm.md)")
     parser.add_argument("--target", choices=("default", "original"), default=None,
                         help="compile the program for this target (default: the one --vm names)")
 

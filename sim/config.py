@@ -1,8 +1,9 @@
 """Configuration files (sim/configs/*.json) and generated structures, loaded into a ``Structure``.
 
 ``load_config`` accepts a path, a shipped name (``car7``, ``car11``, ``car8-cyclic``,
-``car17-wide``) or ``snakeN``; every problem becomes a ``ConfigError`` with one line naming the
-file and, where it applies, the offending module. The format is described in
+``car17-wide``), ``snakeN`` or ``randomN-seedS`` (the names ``rdcd sweep`` takes too); every
+problem becomes a ``ConfigError`` with one line naming the file and, where it applies, the
+offending module. The format is described in
 sim/configs/README.md.
 """
 
@@ -23,6 +24,8 @@ from vm.lattice.structure import ModuleSpec, Structure, StructureError, make_str
 
 CONFIG_DIR = Path(__file__).resolve().parent / "configs"
 MAX_SNAKE = 128  # the lattice world's limit; the physics world's is lower (sim.cli_simulate)
+MAX_RANDOM = 1000  # modules of a randomN-seedS structure
+GENERATED = re.compile(r"snake([0-9]+)|random([0-9]+)-seed([0-9]+)")
 _TOP_FIELDS = {"name", "about", "entry", "modules", "connections"}
 _MODULE_FIELDS = {"id", "position", "axis", "mount", "role_expected"}
 
@@ -36,8 +39,9 @@ def shipped_names() -> list[str]:
 
 
 def config_file(name_or_path: str | Path) -> Path | None:
-    """The file ``load_config`` reads for ``name_or_path`` (None for ``snakeN``); a ``ConfigError``
-    if there is none. A path is used as given; a bare name is a shipped configuration."""
+    """The file ``load_config`` reads for ``name_or_path`` (None for the generated ``snakeN`` and
+    ``randomN-seedS``); a ``ConfigError`` if there is none. A path is used as given (a file of
+    that name wins over a generated structure); a bare name is a shipped configuration."""
     text = str(name_or_path)
     try:
         info = os.stat(text) if text else None
@@ -51,22 +55,20 @@ def config_file(name_or_path: str | Path) -> Path | None:
         if not stat.S_ISREG(info.st_mode):
             raise ConfigError(f"{text}: not a configuration file (a directory or a special file)")
         return Path(text)
-    if re.fullmatch(r"snake[0-9]+", text):
+    if GENERATED.fullmatch(text):
         return None
     path = CONFIG_DIR / (text if text.endswith(".json") else f"{text}.json")
     if "/" in text or os.sep in text or not path.is_file():
         raise ConfigError(f"{text or repr(text)}: no such configuration file or shipped configuration "
-                          f"(shipped: {', '.join(shipped_names())}, snakeN){_broken_link(text)}")
+                          f"(shipped: {', '.join(shipped_names())}, snakeN, randomN-seedS)"
+                          f"{_broken_link(text)}")
     return path
 
 
 def load_config(name_or_path: str | Path) -> Structure:
     path = config_file(name_or_path)
     if path is None:
-        digits = str(name_or_path)[len("snake"):]
-        if len(digits) > 6:  # int() refuses 4,300 digits
-            raise ConfigError(f"{name_or_path}: a snake has 1..{MAX_SNAKE} modules")
-        return snake(int(digits))
+        return generated(str(name_or_path))
     try:
         # utf-8-sig: a byte order mark is accepted, as in a program
         text = read_regular(str(path)).decode("utf-8-sig")
@@ -83,6 +85,23 @@ def load_config(name_or_path: str | Path) -> Structure:
     except ValueError as e:  # an integer of thousands of digits
         raise ConfigError(f"{path}: invalid JSON: {e}") from None
     return structure_from_json(data, source=str(path), default_name=path.stem)
+
+
+def generated(name: str) -> Structure:
+    """``snakeN`` or ``randomN-seedS``: the structure the name describes."""
+    match = GENERATED.fullmatch(name)
+    if match is None:
+        raise ConfigError(f"{name}: not snakeN or randomN-seedS")
+    snake_n, random_n, seed = match.groups()
+    if snake_n is not None:
+        if len(snake_n) > 6:  # int() refuses 4,300 digits
+            raise ConfigError(f"{name}: a snake has 1..{MAX_SNAKE} modules")
+        return snake(int(snake_n))
+    if len(random_n) > 6:
+        raise ConfigError(f"{name}: a random structure has 1..{MAX_RANDOM} modules")
+    if len(seed) > 18:  # the seed is any integer; this bound keeps int() and the name short
+        raise ConfigError(f"{name}: the seed has at most 18 digits")
+    return random_structure(int(random_n), int(seed))
 
 
 def _broken_link(text: str) -> str:
@@ -210,8 +229,8 @@ def random_structure(n: int, seed: int, *, explicit_connections: bool = False) -
     origin (NS, identity mount); other modules get random mounts. With ``explicit_connections``
     the configuration lists its connections: the growth tree plus each other adjacent pair with
     probability 1/2, so some adjacent modules stay unconnected and cycles still occur."""
-    if not 1 <= n <= 1000:
-        raise ConfigError(f"random structure of {n} modules: use 1..1000")
+    if not 1 <= n <= MAX_RANDOM:
+        raise ConfigError(f"random{n}-seed{seed}: a random structure has 1..{MAX_RANDOM} modules")
     rng = random.Random(seed)
     specs = [ModuleSpec(0, (0, 0, 0), navigation.NORTH_SOUTH)]
     taken = {(0, 0, 0): 0}

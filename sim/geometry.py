@@ -1,6 +1,6 @@
 """Where things are on a module: axes, hemispheres and connectors in the world frame.
 
-The world is z-up and, at start, aligned with the structure's lattice frame (dcd-vm.md §5).
+The world is z-up and, at start, aligned with the structure's lattice frame (docs/vm.md).
 Physical connector p of a module faces the lattice direction of the virtual channel its mount
 puts it on, so the VM's virtual-to-physical rule agrees with the real geometry.
 """

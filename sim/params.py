@@ -1,4 +1,4 @@
-"""Every physical parameter of the simulated ATRON world, in one place (spec/atron.md).
+"""Every physical parameter of the simulated ATRON world, in one place (docs/simulator.md).
 
 SI units throughout. Change a value here, not in the code that uses it.
 """

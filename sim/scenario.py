@@ -1,4 +1,4 @@
-"""Judge a report against spec/atron.md "What the obstacle program works means".
+"""Judge a report against docs/simulator.md "What the obstacle program works means".
 
 The judge is literal about the end of the run: when the run ends, no module's role is a Reverse
 mixin application, and the car is driving forward along its own heading over the last

@@ -1,5 +1,6 @@
 """The TextMate grammar of the VS Code extension lists the same keywords, Module API primitives and
-predefined values as the tables in rdcd_core (DESIGN.md rule 1: the grammar is the only other list)."""
+predefined values as the tables in rdcd_core (docs/architecture.md rule 1: the grammar is the only
+other list)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Copy of shared/tools/code-server-setup.sh (the project must not read ../shared), changed to
-# install code-server with scripts off (see below).
+# This project's copy of the team's code-server setup script (the project reads nothing outside
+# itself), changed to install code-server with scripts off (see below).
 # Installs a real VS Code (code-server, the web build of VS Code) and headless Chromium for
 # end-to-end tests of the extension, without downloading anything but registry packages.
 #   usage: code-server-setup.sh DIR      (idempotent; prints the lines to `source` for PATH)

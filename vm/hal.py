@@ -1,4 +1,4 @@
-"""The interface a world implements for one module (DESIGN.md rule 4).
+"""The interface a world implements for one module (docs/architecture.md rule 4).
 
 The VM sees its world only through this: it never learns its position or orientation except
 from packets. A world (``vm.lattice`` without physics, ``sim`` with PyBullet) creates one

@@ -7,7 +7,7 @@ keeps its pc and stack and is resumed by the runtime. Values are signed bytes. T
 never raises for any code: unverified bytes end in an error outcome.
 
 The ``Target`` (vm.isa.targets) is the VM profile: which opcodes execute, the stack depth, the
-instructions per run and the firmware's quirks in what an instruction does (dcd-vm.md §10).
+instructions per run and the firmware's quirks in what an instruction does (docs/vm.md).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Lattice navigation of the DCD-VM (dcd-vm.md §5).
+"""Lattice navigation of the DCD-VM (docs/vm.md).
 
 Frame: +x east, +y north, +z up; the entry module sits at (0,0,0) with axis NORTH_SOUTH.
 A module's 8 *virtual* channels are its connectors named in that frame; *physical* channels are
@@ -68,7 +68,7 @@ def offset(axis: int, vch: int) -> Vec:
 def receiver(x: int, y: int, z: int, axis: int, vch: int, *, ud_offsets_swapped: bool = False
              ) -> tuple[int, int, int, int, int]:
     """(rx, ry, rz, raxis, rvch) of the neighbour reached by sending on virtual channel ``vch``.
-    ``ud_offsets_swapped``: the original VM's bug (dcd-vm.md §5, §10), the x-offsets of a UD
+    ``ud_offsets_swapped``: the original VM's bug (docs/vm.md), the x-offsets of a UD
     sender's channels 5 and 7 exchanged, so the receiver is told a wrong x."""
     (dx, dy, dz), raxis, rvch = _TABLE[axis][vch]
     if ud_offsets_swapped and axis == UP_DOWN and vch in _UD_SWAPPED:

@@ -1,4 +1,4 @@
-"""DCD-VM packets (dcd-vm.md §2): a 7-byte header ``type, id, x, y, z, r, vch`` and a body.
+"""DCD-VM packets (docs/vm.md): a 7-byte header ``type, id, x, y, z, r, vch`` and a body.
 
 Types 1 program (body: the fragment), 2 command (body: role, command, argument), 3 notify
 (body: role). This VM adds type 4 **ack** (body: acked type, CRC-8 of the acked packet; the
@@ -27,7 +27,7 @@ VALUE = 5
 TYPE_NAMES = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack", VALUE: "value"}
 VALUE_PARENT = 0x80  # a value packet's flag: the receiver is the sender's parent in the tree
 HEADER_SIZE = 7
-PACKET_BUDGET = 50  # bytes; the hardware IR link became unreliable above this (dcd-vm.md §2)
+PACKET_BUDGET = 50  # bytes; the hardware IR link became unreliable above this (docs/vm.md)
 
 
 @dataclass(frozen=True, slots=True)

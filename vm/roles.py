@@ -1,4 +1,4 @@
-"""The role table the compiler emits and every module receives (dcd-vm.md §8).
+"""The role table the compiler emits and every module receives (docs/vm.md).
 
 Role ids are 1..14; 0 is "no role"; 255 is "any" (every role, including none, is an instance).
 ``instance_of[r]`` is the set of role ids that role r is an instance of; r itself is always

@@ -10,7 +10,7 @@ the optional hook ``on_event(kind, detail)`` (for the story of a run with code l
 detection), "command" (a command executed here), "program" (a program stored and queued),
 "error", "trace" (ACTIVATE_DEBUG).
 
-Packets, diffusion and their fault tolerance (dcd-vm.md §6) are the module's network side,
+Packets, diffusion and their fault tolerance (docs/vm.md) are the module's network side,
 ``vm.runtime_node.ModuleNode``; this module adds the scheduler and the ``vm.interpreter.Machine``
 that programs run against.
 
@@ -21,7 +21,7 @@ as argument; a handler fires when its sensor sees an object, once per detection:
 when the sensor clears or when a disabled event is enabled again.
 
 VM profile: ``target`` (vm.isa.targets) says which opcodes run, the limits, and the firmware's
-quirks (dcd-vm.md §10) that the scheduler and the network side reproduce: handlers that run with
+quirks (docs/vm.md) that the scheduler and the network side reproduce: handlers that run with
 argument 0 on every step while their sensor sees, ENABLE_EVENT toggling, a module that halts on
 an instruction it does not know, no duplicate suppression, no acknowledgements, the UD 5/7
 offsets. The default target is this project's corrected VM.

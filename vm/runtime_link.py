@@ -1,4 +1,4 @@
-"""Acknowledged per-link delivery for the DCD-VM (dcd-vm.md §6).
+"""Acknowledged per-link delivery for the DCD-VM (docs/vm.md).
 
 Every program, command and notify packet a module sends on a physical channel is kept in an
 outbox until the neighbour acknowledges it with an ack packet (type 4: the acked id and type and
@@ -19,7 +19,7 @@ on the same channel is still unacknowledged, and released when that one is ackno
 up). By induction every module then accepts fragments in the order they were injected, also under
 loss and in cyclic structures, so a discovery fragment never overtakes the fragments it follows.
 
-``acknowledged=False`` is the original firmware (dcd-vm.md §6, §10): every packet is sent once,
+``acknowledged=False`` is the original firmware (docs/vm.md): every packet is sent once,
 nothing is acknowledged or retransmitted, and a lost packet stays lost.
 """
 

@@ -2,7 +2,7 @@
 at-most-once acceptance, and its error and event log. ``vm.runtime.ModuleRuntime`` adds the
 scheduler and what programs call.
 
-Fault tolerance (dcd-vm.md §6), in two parts:
+Fault tolerance (docs/vm.md), in two parts:
 - delivery: every program, command and notify packet is sent with per-link acknowledgement and
   retransmission (``vm.runtime_link``), so a fragment crosses each link despite loss; a module
   whose slots or queue are full does not acknowledge a program, so it is offered again later;
@@ -16,7 +16,7 @@ Fault tolerance (dcd-vm.md §6), in two parts:
   through cycles, retries or delayed packets are acknowledged but never run again. Notifies carry
   a per-sender sequence number in the id; an older one never overwrites a newer role.
 
-The firmware profile (``target`` with vm.isa.targets quirks, dcd-vm.md §10) has neither: packets
+The firmware profile (``target`` with vm.isa.targets quirks, docs/vm.md) has neither: packets
 are sent once and never acknowledged, every program and command packet that arrives is run or
 forwarded again (so they circulate in cyclic structures until a store or queue overflows), a
 halted module hears nothing, and receivers' coordinates are computed with the UD 5/7 x-offsets

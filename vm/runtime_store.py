@@ -1,4 +1,4 @@
-"""Per-module storage of the DCD-VM with the hardware limits of dcd-vm.md §1: program slots,
+"""Per-module storage of the DCD-VM with the hardware limits of docs/vm.md: program slots,
 task queue entries, event vectors and the command table. Running out is reported by the caller
 as a runtime error (``StoreFull``), never a crash.
 """

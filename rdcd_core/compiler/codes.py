@@ -1,4 +1,4 @@
-"""The diagnostic codes of the compiler: E6xx / W6xx, limits of the DCD-VM target (language.md §6).
+"""The diagnostic codes of the compiler: E6xx / W6xx, limits of the DCD-VM target (docs/language.md).
 
 E606 and E607 are backstops: the checker reports those programs first (E2xx-E4xx). E602 is retired.
 """

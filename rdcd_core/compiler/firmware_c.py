@@ -1,4 +1,4 @@
-"""The C form for the ATRON firmware (dcd-vm.md §10, "Loading" and "The C interface of that file").
+"""The C form for the ATRON firmware (docs/vm.md, "Loading" and "The C interface of that file").
 
 The firmware reads no program at run time: its ``actions.c`` includes a generated file that
 defines the fragments as ``unsigned char NAME[SIZE+1]`` arrays, ``static void dcd_action(...)``,

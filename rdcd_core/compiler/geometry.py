@@ -1,4 +1,4 @@
-"""Which virtual channels face which direction, per axis (dcd-vm.md §5), and the local states
+"""Which virtual channels face which direction, per axis (docs/vm.md), and the local states
 discovery reasons over. The channel table is the checker's (``semantics.statespace``): rdcd_core
 may import only ``vm.isa`` of the VM, so it cannot read ``vm.navigation``."""
 

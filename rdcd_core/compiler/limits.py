@@ -1,4 +1,4 @@
-"""Limits of language.md §6 that need the compiler's view: command numbers, program slots.
+"""Limits of docs/language.md that need the compiler's view: command numbers, program slots.
 
 The number of role ids and of command-table entries is the checker's (E120, E121): the role table
 has exactly the ids it counts, so the compiler does not count them again."""

@@ -9,9 +9,9 @@ from rdcd_core.fastinit import fast_init
 from rdcd_core.source import Span
 from vm.isa.opcodes import SLOT_BYTES
 
-HEADER_BYTES = 7  # program packet header (dcd-vm.md §2)
+HEADER_BYTES = 7  # program packet header (docs/vm.md)
 DEFAULT_PACKET_BUDGET = 50
-MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (dcd-vm.md §1)
+MAX_PROGRAM_BYTES = SLOT_BYTES  # a program store slot (docs/vm.md)
 
 
 @fast_init  # one per instruction of every fragment: made in bulk

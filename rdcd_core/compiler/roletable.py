@@ -1,4 +1,4 @@
-"""The role table of dcd-vm.md §8: ids 1..14 and the instance-of relation.
+"""The role table of docs/vm.md: ids 1..14 and the instance-of relation.
 
 Order of ids: deployed concrete roles (deployment order); roles observed at run time that are
 not deployed (``connected_role`` targets, command targets); mixins that are observed; one id per

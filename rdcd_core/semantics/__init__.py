@@ -1,4 +1,4 @@
-"""Semantic analysis of RDCD programs: ``analyze(program) -> Model`` (language.md §3–§6)."""
+"""Semantic analysis of RDCD programs: ``analyze(program) -> Model`` (docs/language.md)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The diagnostic codes of the semantic analysis (language.md §3–§6).
+"""The diagnostic codes of the semantic analysis (docs/language.md).
 
 E1xx roles and hierarchy, E2xx names and types, E3xx methods, calls and blocks, E4xx assumeRole,
 E5xx deployment and discovery; W1xx..W5xx the warnings of the same groups.

@@ -1,4 +1,4 @@
-"""Role conflicts (language.md §4): two deployed roles whose invariants can both hold on one module.
+"""Role conflicts (docs/language.md): two deployed roles whose invariants can both hold on one module.
 
 Decided by evaluating the invariants over a bounded space of abstract module states
 (``statespace``), for each neighbour assignment that matters ("every attached neighbour plays R").

@@ -1,4 +1,4 @@
-"""The deployment (language.md §4): valid entries, discovery order, dead roles."""
+"""The deployment (docs/language.md): valid entries, discovery order, dead roles."""
 
 from __future__ import annotations
 

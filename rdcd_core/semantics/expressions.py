@@ -1,4 +1,4 @@
-"""Types and constant folding of expressions (language.md §5.2, §5.3)."""
+"""Types and constant folding of expressions (docs/language.md)."""
 
 from __future__ import annotations
 
@@ -186,7 +186,7 @@ def _binary(env: Env, expr: ast.Binary) -> Result:
         return result, None
     if left is None or right is None:
         return result, None
-    # exact, not wrapped: a constant outside -128..127 is an error (language.md §2), never a wrap
+    # exact, not wrapped: a constant outside -128..127 is an error (docs/language.md), never a wrap
     value = operator.exact(left.value, right.value)
     if result is Type.INT:
         return _ranged(env, expr, value)

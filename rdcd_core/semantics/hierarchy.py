@@ -1,4 +1,4 @@
-"""Role symbols and the role hierarchy (language.md §3): duplicates, super-roles, cycles, mixins."""
+"""Role symbols and the role hierarchy (docs/language.md): duplicates, super-roles, cycles, mixins."""
 
 from __future__ import annotations
 

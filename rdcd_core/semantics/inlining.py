@@ -1,5 +1,5 @@
 """assumeRole scoping through plain methods: they are inlined, so a plain method called inside an
-assumeRole block runs in the mixin too (language.md §5.1, §5.5)."""
+assumeRole block runs in the mixin too (docs/language.md)."""
 
 from __future__ import annotations
 

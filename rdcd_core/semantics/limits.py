@@ -1,8 +1,8 @@
-"""Limits of the target (language.md §6) that the checker reports: role identifiers, command tables
+"""Limits of the target (docs/language.md) that the checker reports: role identifiers, command tables
 (commands and behaviours). The compiler reports nothing of these twice: its role table has exactly
 the identifiers counted here (tests/compiler/test_limits.py compares them).
 
-The role identifiers are counted as the compiler assigns them (dcd-vm.md §8): deployed roles;
+The role identifiers are counted as the compiler assigns them (docs/vm.md): deployed roles;
 roles observed at run time (``connected_role`` and command targets); observed mixins; one per
 application of an assumed mixin to a deployed role it can modify.
 """

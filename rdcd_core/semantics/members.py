@@ -1,4 +1,4 @@
-"""Members of roles and their copy-down (language.md §3): duplicates, overriding, abstract members."""
+"""Members of roles and their copy-down (docs/language.md): duplicates, overriding, abstract members."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Statements, blocks and the scoping of assumeRole and handleEvent (language.md §5.5)."""
+"""Statements, blocks and the scoping of assumeRole and handleEvent (docs/language.md)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A bounded space of abstract module states, for deciding invariants (language.md §4).
+"""A bounded space of abstract module states, for deciding invariants (docs/language.md).
 
 A state is an axis, a set of attached connectors (virtual channels 0..7) and representative
 coordinates; the neighbour roles are a parameter of the evaluation. A set of states is a Python
@@ -15,7 +15,7 @@ AXES = (PREDEFINED_VALUES["EAST_WEST"].code, PREDEFINED_VALUES["NORTH_SOUTH"].co
 AXIS_NAMES = {value.code: name for name, value in PREDEFINED_VALUES.items() if name in
               ("EAST_WEST", "NORTH_SOUTH", "UP_DOWN")}
 
-# Offsets of the virtual channels 0..7 per axis (dcd-vm.md §5).
+# Offsets of the virtual channels 0..7 per axis (docs/vm.md).
 _OFFSETS = {
     "NORTH_SOUTH": ((0, 1, 1), (-1, 1, 0), (0, 1, -1), (1, 1, 0),
                     (0, -1, 1), (-1, -1, 0), (0, -1, -1), (1, -1, 0)),
@@ -58,7 +58,7 @@ class StateSpace:
         self.full = self._lattice_states(set(coordinates))
 
     def _lattice_states(self, used: set[str]) -> int:
-        """Every state whose coordinates fit the axis on the lattice (dcd-vm.md §5: NS modules
+        """Every state whose coordinates fit the axis on the lattice (docs/vm.md: NS modules
         sit where x, y, z are even, EW where x and y are odd, UD where y and z are odd)."""
         full = 0
         repeat = sum(1 << (k * self.block) for k in range(256))

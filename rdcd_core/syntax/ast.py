@@ -1,6 +1,6 @@
 """The RDCD abstract syntax tree: frozen dataclasses, every node with its exact source span.
 
-The grammar is ``spec/language.md`` §2. Parentheses are kept (``Paren``) so that the formatter
+The grammar is `docs/language.md` §2. Parentheses are kept (``Paren``) so that the formatter
 can reproduce what the user wrote; analyses look through them with ``unparen``.
 """
 

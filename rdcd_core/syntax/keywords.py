@@ -1,4 +1,4 @@
-"""The keywords of RDCD (language.md §1), for the editor features and the TextMate grammar test.
+"""The keywords of RDCD (docs/language.md), for the editor features and the TextMate grammar test.
 
 The lexer takes its keywords from grammar.lark; tests/syntax/test_lexer.py checks they agree."""
 

@@ -1,7 +1,7 @@
 """The recording of a run, for the replay page: poses, roles, VM events, packets, detections.
 
 A ``Recording`` is handed to ``sim.run.simulate``; it watches the world from outside, through
-hooks that are off by default (DESIGN.md rule 4: the VM sees nothing new): each runtime's
+hooks that are off by default (docs/architecture.md rule 4: the VM sees nothing new): each runtime's
 ``observer`` (``vm.observer``: fragments stored and run with their code and pc, roles, handlers,
 commands, errors), the network's ``on_send``, the physics world's ``on_detection``, and the run
 loop, which it splits into sample intervals (``advance`` of both worlds is whole physics steps /

@@ -19,7 +19,8 @@ EXAMPLE = Path(__file__).resolve().parent / "example.toml"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", metavar="EXPERIMENT.toml", nargs="?", help="the experiment file")
-    parser.add_argument("--init", metavar="FILE", help="write a commented example experiment to FILE")
+    parser.add_argument("--init", metavar="FILE",
+                        help="write a commented example experiment to FILE and, beside it, its program")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="worker processes of the local cluster (default: one per core); 1: in this "
                              "process, without Dask")
@@ -39,19 +40,55 @@ def _fail(message: str) -> int:
     return 2
 
 
+def example_program() -> Path:
+    """The program the example experiment runs: the paper's obstacle avoidance in examples/."""
+    return Path(__file__).resolve().parents[2] / "examples" / PROGRAM_NAME
+
+
+PROGRAM_NAME = "obstacle_avoidance.rdcd"
+
+
 def init(path: str) -> int:
+    """Write the example experiment to ``path`` and its program beside it, so that it runs from
+    any folder. Nothing is ever overwritten: an existing experiment file is refused, and an
+    existing program of that name is used only when it is the same program."""
     import os
 
     text = EXAMPLE.read_text(encoding="utf-8")
-    try:  # O_EXCL: an existing file is never overwritten, not even one created a moment ago
-        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
-    except FileExistsError:
-        return _fail(f"{path} exists; --init writes only a new file")
-    except OSError as error:
-        return _fail(f"cannot write {path}: {error.strerror or error}")
-    with os.fdopen(fd, "w", encoding="utf-8") as file:
-        file.write(text)
-    print(f"wrote {path}: edit 'program' (relative to the file) and the [grid], then: rdcd sweep {path}")
+    try:
+        program = example_program().read_text(encoding="utf-8")
+    except OSError:
+        return _fail(f"the example program {PROGRAM_NAME} is not installed (examples/ of the rdcd "
+                     "source tree: install with pip install -e .)")
+    beside = Path(path).parent / PROGRAM_NAME
+    writes = [(path, text)]
+    try:
+        if beside.read_text(encoding="utf-8") != program:
+            return _fail(f"{beside} exists and is not the example program; --init writes it beside "
+                         f"{path}: choose another folder")
+    except FileNotFoundError:
+        writes.append((str(beside), program))
+    except (OSError, UnicodeDecodeError) as error:
+        return _fail(f"{beside} exists and cannot be read: {getattr(error, 'strerror', None) or error}")
+    done: list[str] = []
+    for target, content in writes:
+        try:  # O_EXCL: an existing file is never overwritten, not even one created a moment ago
+            fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            problem = f"{target} exists; --init writes only a new file"
+        except OSError as error:
+            problem = f"cannot write {target}: {error.strerror or error}"
+        else:
+            with os.fdopen(fd, "w", encoding="utf-8") as file:
+                file.write(content)
+            done.append(target)
+            continue
+        for written in done:  # all or nothing: no half-written example is left behind
+            os.unlink(written)
+        return _fail(problem)
+    program_note = (f" and its program {beside}" if len(done) == 2
+                    else f" (its program: the existing {beside})")
+    print(f"wrote {path}{program_note}; edit 'program' and the [grid], then: rdcd sweep {path}")
     return 0
 
 
@@ -117,8 +154,10 @@ def _sweep(experiment, args: argparse.Namespace) -> int:  # noqa: ANN001 - sim.s
         done += f", {results.failed} failed"
     print(f"{done}; results in {results.out}/ (index.html, runs.csv, summary.csv)")
     if results.interrupted:
-        print("rdcd sweep: interrupted; every finished run is kept: run the same command again to go on",
-              file=sys.stderr)
+        # counted in the folder: a Ctrl-C can fall between a run's file and its count
+        kept = sum(results.plan.store.has(key) for key in results.plan.keys())
+        print(f"rdcd sweep: interrupted: {kept} of {results.total} runs are done and kept in {results.out}/; "
+              f"to go on, run again: {command}", file=sys.stderr)
         return 130
     return 0
 

@@ -10,6 +10,8 @@ import hashlib
 import json
 import logging
 import os
+import signal
+import threading
 import uuid
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -54,10 +56,32 @@ def local_cluster(workers: int) -> Iterator[Any]:
 
     # No dashboard: its task stream keeps a record of every task (up to 100,000), so the driver,
     # which holds a local cluster's scheduler, would grow with the number of runs.
-    with dask.config.set(DRIVER_HISTORY), \
-            LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                         silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
-        yield client
+    # Ctrl-C is the driver's to handle (it stops, keeps every finished run and closes the cluster):
+    # a worker that took it too would print Dask's KeyboardInterrupt traceback as it dies. Worker
+    # processes inherit "ignore SIGINT" from the driver, which ignores it while the cluster starts
+    # them (a blocked mask would not do: the spawned interpreters do not keep it), and the preload
+    # keeps it so in a worker the nanny starts again later. A Ctrl-C while the cluster starts (a
+    # second or two; longer on a loaded machine) is lost: press it again.
+    with dask.config.set(DRIVER_HISTORY):
+        with _sigint_ignored():
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, silence_logs=logging.ERROR,
+                                   preload=["sim.sweep.worker_signals"])
+        with cluster, Client(cluster) as client:
+            yield client
+
+
+@contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored by this process, and inherited so by the processes it starts, for the block."""
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signals are the main thread's to change
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def forget_scheduler_history(dask_scheduler: Any) -> None:

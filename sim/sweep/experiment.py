@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,7 +25,6 @@ SUCCESS_KEYS = ("checks", "min_turn_deg", "bounds", "state", "held_by")
 RANGE_KEYS = ("from", "to", "step")
 DEFAULT_CHECKS = ("roles",)
 DEFAULT_MIN_TURN_DEG = 15.0
-RANDOM_CONFIG = re.compile(r"random(\d+)-seed(\d+)")
 
 
 class ExperimentError(ValueError):
@@ -37,8 +35,7 @@ class ExperimentError(ValueError):
 class ConfigEntry:
     data: dict[str, Any]  # the configuration's JSON, shipped to the worker with each run
     digest: str
-    replay: str | None  # the --config argument that replays it; None: a generated structure,
-    name: str  # ... written as <out>/configs/<name>.json when the sweep starts
+    replay: str  # the `rdcd simulate --config` argument that gives the same structure
 
 
 @dataclass(frozen=True)
@@ -229,22 +226,19 @@ class _Reader:
         return {value: self.config(key, value) for value in dict.fromkeys(values)}
 
     def config(self, key: str, value: str) -> ConfigEntry:
-        from sim.config import ConfigError, load_config, random_structure, structure_to_json
+        from sim.config import ConfigError, load_config, structure_to_json
 
+        # a file beside the experiment first; else what `rdcd simulate --config` takes: a path from
+        # here, a shipped name, snakeN or randomN-seedS. The run's command names the same.
         beside = self.base / value
-        match = RANDOM_CONFIG.fullmatch(value)
+        replay = str(beside) if value and beside.is_file() else value
         try:
-            if match and not beside.exists():
-                structure = random_structure(int(match.group(1)), int(match.group(2)))
-                replay = None
-            else:
-                replay = str(beside) if value and beside.is_file() else value
-                structure = load_config(replay)
+            structure = load_config(replay)
         except ConfigError as error:
             raise self.fail(key, str(error)) from None
         data = structure_to_json(structure)
         digest = hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
-        return ConfigEntry(data, digest, replay, structure.name or value)
+        return ConfigEntry(data, digest, replay)
 
     def success(self, data: dict[str, Any]) -> tuple[tuple[str, ...], float, dict]:
         table = self.table(data, "success")

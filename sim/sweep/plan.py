@@ -27,9 +27,7 @@ class Plan:
         self.store = store
         self.total = experiment.size if limit is None else min(limit, experiment.size)
         self.program = shown(experiment.program_path)
-        self.config_args = {value: entry.replay if entry.replay is not None
-                            else shown(store.write_config(entry.name, entry.data))
-                            for value, entry in experiment.configs.items()}
+        self.config_args = {value: entry.replay for value, entry in experiment.configs.items()}
 
     def key(self, index: int) -> tuple[str, dict[str, Any]]:
         values = self.experiment.values(index)

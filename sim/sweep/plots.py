@@ -15,7 +15,7 @@ from typing import Any
 
 from rdcd_core.outputs import write_atomically, write_with
 from sim.sweep.plan import Plan
-from sim.sweep.tables import rows, wilson
+from sim.sweep.tables import missed_text, rows, wilson
 
 LOSS_PLOT = "success_vs_packet_loss.png"
 HEATMAP = "config_obstacle_heatmap.png"
@@ -118,12 +118,13 @@ def write_index(plan: Plan, cells: list[dict[str, Any]], images: list[Path], com
     e = plan.experiment
     axes = e.cell_axes
     head = "".join(f"<th>{html.escape(a)}</th>" for a in [*axes, "runs", "failed", "successes", "rate",
-                                                          "95 % interval"])
+                                                          "95 % interval", "missed (runs)"])
     body = []
     for c in cells:
         rate = "-" if c["success_rate"] is None else f"{100 * c['success_rate']:.0f} %"
         ci = "-" if c["success_rate"] is None else f"{100 * c['ci95_low']:.0f}–{100 * c['ci95_high']:.0f} %"
-        cols = [*(c[a] for a in axes), c["runs"], c["failed"], f"{c['successes']}/{c['completed']}", rate, ci]
+        cols = [*(c[a] for a in axes), c["runs"], c["failed"], f"{c['successes']}/{c['completed']}", rate, ci,
+                missed_text(c) or "–"]
         body.append("<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in cols) + "</tr>")
     criteria = ", ".join(e.checks) or "the run completes"
     if "turned" in e.checks:
@@ -140,7 +141,9 @@ img{{max-width:100%;margin:1em 0}}code{{background:#f4f4f4;padding:.1em .3em}}</
 <h1>{html.escape(e.title)}</h1>
 <p>Program <code>{html.escape(plan.program)}</code>; {plan.total} runs over
 {html.escape(' × '.join(e.grid.names))}. Success: {html.escape(criteria)}.
-The rate is over completed runs; failed runs (crashed, timed out) are counted apart.</p>
+The rate is over completed runs; failed runs (crashed, timed out) are counted apart.
+<em>Missed</em> counts, for each criterion, the completed runs of the cell that did not meet it
+(a run that misses two is counted under both; summary.csv has them as <code>failed_NAME</code>).</p>
 <p>Run again (only missing runs): <code>{html.escape(command)}</code></p>
 <table><tr>{head}</tr>
 {chr(10).join(body)}

@@ -1,6 +1,7 @@
 """One row per run: its fields, how a report becomes a row, and how a row is judged.
 
-A row keeps the measures and the named checks of spec/atron.md (sim/scenario.py), not the verdict:
+A row keeps the measures and the named checks of the obstacle scenario (sim/scenario.py;
+docs/simulator.md says what each means), not the verdict:
 success is decided from the experiment's criteria when tables are written, so changing the
 criteria needs no run again.
 """
@@ -14,7 +15,7 @@ from sim.report import distance, heading_change
 from sim.sweep.state_checks import HeldBy, StateCheck, facts, holds
 from vm.lattice.structure import Structure
 
-# Named checks of spec/atron.md; "turned" is judged from turn_deg against the experiment's angle.
+# Named checks of the obstacle scenario; "turned" is judged from turn_deg against the experiment's angle.
 CHECKS = ("roles", "detected", "no_collision", "drove_forward", "turned", "forward_again",
           "no_reverse_left", "straight", "no_detection")
 STORED_CHECKS = tuple(c for c in CHECKS if c != "turned")
@@ -69,19 +70,34 @@ def succeeded(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
               held_by: tuple[HeldBy, ...] = ()) -> bool:
     """The experiment's verdict on a row: it ran, every named check holds, every bound holds, every
     final-state check holds."""
-    if row.get("status") != "ok":
-        return False
+    return row.get("status") == "ok" and not failures(row, checks, min_turn_deg, bounds, state, held_by)
+
+
+def criteria(checks: tuple[str, ...], bounds: dict[str, tuple[float | None, float | None]],
+             state: tuple[StateCheck, ...] = (), held_by: tuple[HeldBy, ...] = ()) -> list[str]:
+    """The names of an experiment's success criteria: its checks, then its bounded measures, then
+    ``final_state`` when it tests final state or who holds a role."""
+    names = [*checks, *(name for name in bounds if name not in checks)]
+    return [*names, "final_state"] if state or held_by else names
+
+
+def failures(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
+             bounds: dict[str, tuple[float | None, float | None]], state: tuple[StateCheck, ...] = (),
+             held_by: tuple[HeldBy, ...] = ()) -> list[str]:
+    """The criteria (names as in ``criteria``) a completed run does not meet; [] for a success."""
+    failed = []
     for name in checks:
         if name == "turned":
             turn = row.get("turn_deg")
             if turn is None or abs(turn) < min_turn_deg:
-                return False
+                failed.append(name)
         elif not row.get(f"check_{name}"):
-            return False
+            failed.append(name)
     for metric, (low, high) in bounds.items():
         value = row.get(metric)
-        if value is None or isinstance(value, str):
-            return False
-        if (low is not None and value < low) or (high is not None and value > high):
-            return False
-    return holds(row.get("final"), state, held_by)
+        if (value is None or isinstance(value, str) or (low is not None and value < low)
+                or (high is not None and value > high)):
+            failed.append(metric)
+    if (state or held_by) and not holds(row.get("final"), state, held_by):
+        failed.append("final_state")
+    return failed

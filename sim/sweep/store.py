@@ -2,7 +2,6 @@
 
     OUT/sweep.json          marks the folder as a sweep's (and says which experiment last used it)
     OUT/runs/KEY.json       one row per run, written atomically: nothing finished is ever lost
-    OUT/configs/NAME.json   generated structures, so that their rows can be replayed
     OUT/runs.csv, runs.parquet, summary.csv, *.png, index.html   regenerated from the rows
 
 A folder that exists, is not empty and has no sweep.json is refused: it is someone's, not ours.
@@ -79,12 +78,6 @@ class Store:
 
     def write(self, row: dict[str, Any]) -> None:
         write_atomically(str(self.path(row["key"])), json.dumps(row, sort_keys=True) + "\n")
-
-    def write_config(self, name: str, data: dict[str, Any]) -> Path:
-        self.configs.mkdir(exist_ok=True)
-        path = self.configs / f"{name}.json"
-        write_atomically(str(path), json.dumps(data, indent=1) + "\n")
-        return path
 
     def find(self, prefix: str) -> list[str]:
         """Keys of finished runs starting with ``prefix`` (a key can be given shortened)."""

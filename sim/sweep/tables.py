@@ -16,7 +16,7 @@ from typing import Any, BinaryIO
 
 from rdcd_core.outputs import write_with
 from sim.sweep.plan import Plan
-from sim.sweep.rows import columns, succeeded
+from sim.sweep.rows import columns, criteria, failures, succeeded
 from sim.sweep.store import replace_with
 
 Z95 = 1.959963984540054
@@ -43,34 +43,52 @@ def rows(plan: Plan) -> Iterator[dict[str, Any]]:
         yield row
 
 
+FAILED_PREFIX = "failed_"  # summary.csv: failed_<criterion> = completed runs of the cell that missed it
+
+
 @dataclass
 class Cell:
     values: dict[str, Any]
+    criteria: list[str]
     runs: int = 0
     ok: int = 0
     successes: int = 0
-    failures: list[str] = field(default_factory=list)
+    missed: dict[str, int] = field(default_factory=dict)
 
     def as_row(self) -> dict[str, Any]:
         low, high = wilson(self.successes, self.ok)
         rate = self.successes / self.ok if self.ok else None
         return {**self.values, "runs": self.runs, "completed": self.ok, "failed": self.runs - self.ok,
-                "successes": self.successes, "success_rate": rate, "ci95_low": low, "ci95_high": high}
+                "successes": self.successes, "success_rate": rate, "ci95_low": low, "ci95_high": high,
+                **{f"{FAILED_PREFIX}{name}": self.missed.get(name, 0) for name in self.criteria}}
 
 
 def summary(plan: Plan) -> list[dict[str, Any]]:
-    """One row per grid cell (the grid's axes but the seed): runs, successes, rate and Wilson 95 %.
-    The rate counts completed runs; runs that failed (crashed, timed out) are counted apart."""
+    """One row per grid cell (the grid's axes but the seed): runs, successes, rate and Wilson 95 %,
+    and for each success criterion how many completed runs missed it (``failed_<name>``: a run
+    that misses two counts in both). The rate counts completed runs; runs that failed (crashed,
+    timed out) are counted apart."""
+    e = plan.experiment
+    names = criteria(e.checks, e.bounds, e.state, e.held_by)
     cells: dict[tuple, Cell] = {}
-    axes = plan.experiment.cell_axes
+    axes = e.cell_axes
     for row in rows(plan):
         values = {a: row.get(a) for a in axes}
-        cell = cells.setdefault(tuple(values.values()), Cell(values))
+        cell = cells.setdefault(tuple(values.values()), Cell(values, names))
         cell.runs += 1
         if row["status"] == "ok":
             cell.ok += 1
             cell.successes += bool(row["success"])
+            for name in failures(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by):
+                cell.missed[name] = cell.missed.get(name, 0) + 1
     return [cell.as_row() for cell in cells.values()]
+
+
+def missed_text(cell: dict[str, Any]) -> str:
+    """What the completed runs of a summary row missed: "forward_again 2, turned 1" ("" if none)."""
+    counts = [(name[len(FAILED_PREFIX):], n) for name, n in cell.items()
+              if name.startswith(FAILED_PREFIX) and n]
+    return ", ".join(f"{name} {n}" for name, n in sorted(counts, key=lambda c: -c[1]))
 
 
 def write_runs_csv(plan: Plan) -> Path:
@@ -130,7 +148,10 @@ def _arrow_type(pa: Any, name: str, plan: Plan) -> Any:
 
 def write_summary_csv(plan: Plan, cells: list[dict[str, Any]]) -> Path:
     path = plan.store.root / "summary.csv"
-    names = list(cells[0]) if cells else [*plan.experiment.cell_axes, "runs"]
+    e = plan.experiment
+    names = list(cells[0]) if cells else [*e.cell_axes, "runs", "completed", "failed", "successes",
+                                          "success_rate", "ci95_low", "ci95_high",
+                                          *(f"{FAILED_PREFIX}{n}" for n in criteria(e.checks, e.bounds, e.state, e.held_by))]
 
     def write(file: BinaryIO) -> None:
         with _Utf8Text(file) as text:
@@ -144,17 +165,21 @@ def write_summary_csv(plan: Plan, cells: list[dict[str, Any]]) -> Path:
 def summary_text(plan: Plan, cells: list[dict[str, Any]]) -> str:
     """The summary as a plain-text table for the terminal (and the report)."""
     axes = plan.experiment.cell_axes
-    head = [*axes, "runs", "failed", "success", "rate", "95% interval"]
+    head = [*axes, "runs", "failed", "success", "rate", "95% interval", "missed (runs)"]
     body = []
     for c in cells:
         rate = "-" if c["success_rate"] is None else f"{100 * c['success_rate']:.0f}%"
         interval = ("-" if c["success_rate"] is None
                     else f"{100 * c['ci95_low']:.0f}-{100 * c['ci95_high']:.0f}%")
         body.append([*(_text(c[a]) for a in axes), str(c["runs"]), str(c["failed"]),
-                     f"{c['successes']}/{c['completed']}", rate, interval])
+                     f"{c['successes']}/{c['completed']}", rate, interval, missed_text(c) or "-"])
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
-    lines = ["  ".join(v.ljust(w) if i < len(axes) else v.rjust(w) for i, (v, w) in enumerate(zip(r, widths,
-             strict=True))).rstrip() for r in [head, *body]]
+    last = len(head) - 1  # the missed checks: text, left-aligned like the axes
+
+    def cell(i: int, v: str, w: int) -> str:
+        return v.ljust(w) if i < len(axes) or i == last else v.rjust(w)
+    lines = ["  ".join(cell(i, v, w) for i, (v, w) in enumerate(zip(r, widths, strict=True))).rstrip()
+             for r in [head, *body]]
     return "\n".join(lines)
 
 

@@ -47,6 +47,25 @@ def test_impossible_snakes(name: str) -> None:
     assert "internal error" not in done.stderr
 
 
+def test_random_structures_are_configurations_of_simulate_too() -> None:
+    """The names a sweep takes: randomN-seedS is the structure the sweep builds, by name."""
+    from sim.config import load_config, random_structure
+
+    done = rdcd("simulate", PROGRAM, "--world", "lattice", "--config", "random30-seed4", "--duration", "0.5")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("random30-seed4 in the lattice world") and "30 × none" in done.stdout
+    assert load_config("random30-seed4") == random_structure(30, 4)
+    assert "randomN-seedS" in " ".join(rdcd("simulate", "--help").stdout.split())
+
+
+@pytest.mark.parametrize("name", ["random0-seed1", "random1001-seed1", "random" + "9" * 5000 + "-seed1",
+                                  "random5-seed" + "9" * 5000, "random5-seed-1", "random5"])
+def test_impossible_random_structures(name: str) -> None:
+    done = rdcd("simulate", PROGRAM, "--world", "lattice", "--config", name, "--duration", "0.1")
+    assert_clean_failure(done, 2)
+    assert "internal error" not in done.stderr and done.stderr.count("\n") == 1
+
+
 def test_a_physics_limit_applies_to_configuration_files_too(tmp_path: Path) -> None:
     """A long snake written as a file: the same limit, said before the run."""
     _, physics = _help_ranges()

@@ -1,4 +1,4 @@
-"""Runs compiled code as the original firmware would (dcd-vm.md §10), for the lowering tests: this
+"""Runs compiled code as the original firmware would (docs/vm.md), for the lowering tests: this
 project's interpreter for every instruction the firmware runs the same way, and, in front of it,
 what the firmware does differently with the instructions compiled code uses: an unimplemented
 opcode halts the module, CONNECTED_DIR_SIZEOF reads the bits set *in the count* and halts on the

@@ -1,4 +1,4 @@
-"""The C form for the original firmware (dcd-vm.md §10): it compiles with ``gcc -Wall -Werror``
+"""The C form for the original firmware (docs/vm.md): it compiles with ``gcc -Wall -Werror``
 against a header written from §10's interface, in the simulator build and the hardware build, and,
 run with stand-ins for the firmware's functions, it sends exactly the compiled fragments in the
 injection order on channels 0-7 with the program id counting up, and its role table is the
@@ -21,7 +21,7 @@ from tests.compiler.conftest import _compile, firmware_examples
 GCC = shutil.which("gcc")
 needs_gcc = pytest.mark.skipif(GCC is None, reason="gcc is not installed (CI has it)")
 
-# The firmware's interface as dcd-vm.md §10 states it: the environment macros, the seven-byte
+# The firmware's interface as docs/vm.md states it: the environment macros, the seven-byte
 # context {x, y, z, rotation, incoming virtual channel, incoming physical channel, program_id},
 # delay and sendProgramMaybe taking a uint8_t pointer, ARG_NORTH_SOUTH.
 HEADER = """\

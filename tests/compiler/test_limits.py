@@ -1,4 +1,4 @@
-"""Target limits of language.md §6, reported at the construct that causes them."""
+"""Target limits of docs/language.md, reported at the construct that causes them."""
 
 from __future__ import annotations
 

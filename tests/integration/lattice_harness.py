@@ -5,7 +5,7 @@ physics-free lattice world, shared by tests/integration and benchmarks/lattice_a
 compiler), injects its fragments back to back at the entry module as ``rdcd simulate`` does, runs
 until every module has accepted every fragment and all links are quiet, then a margin, and returns
 a ``LatticeRun``: roles by module id, the fragments each module accepted (with repeats), run
-counts, link figures and ``problems()``, the acceptance verdict (atron.md, dcd-vm.md §3 and §6).
+counts, link figures and ``problems()``, the acceptance verdict (docs/simulator.md, docs/vm.md).
 ``reverse_scenario(run)`` then puts an obstacle cell ahead of a front wheel's watched sensor and
 follows the Reverse mixin through the structure.
 

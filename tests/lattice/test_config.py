@@ -1,4 +1,4 @@
-"""Configuration files and generators: shipped cars as in atron.md, one-line ConfigErrors,
+"""Configuration files and generators: shipped cars as in docs/simulator.md, one-line ConfigErrors,
 valid generated structures."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The compiled obstacle program (examples/obstacle_avoidance.rdcd, unmodified) on the shipped cars
-in the lattice world (atron.md, "what the obstacle program works means", without the driving):
+in the lattice world (docs/simulator.md, "what the obstacle program works means", without the driving):
 expected roles, a front wheel's sensor fires, all wheels reverse while the axles steer (front and
 rear opposite), then everything returns and nothing is left in Reverse."""
 

@@ -1,5 +1,5 @@
 """Issue 11, acceptance 2 in the lattice world: the example programs in the VM profile ``original``
-(the ATRON firmware as dcd-vm.md §10 describes it), compiled for the original target and, to show
+(the ATRON firmware as docs/vm.md describes it), compiled for the original target and, to show
 what a user meets on the robot, for the default target."""
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ def test_snake_wave_for_the_default_target_halts_on_the_firmware_at_equals_2() -
 def test_car8_cyclic_shows_the_circulation_failure_on_the_firmware() -> None:
     """No duplicate suppression: every fragment goes round the cycle driver – rear axle – bridge
     for ever, each lap runs it again on every module of the cycle, and the stores and queues of
-    the modules on the cycle overflow (dcd-vm.md §10)."""
+    the modules on the cycle overflow (docs/vm.md)."""
     structure_name = "car8-cyclic"
     run = start(structure_name, target="original", vm=ORIGINAL, limit_s=8.0, margin_s=0.0)
     runtimes = run.world.runtimes

@@ -58,7 +58,7 @@ def test_diffusion_under_ten_percent_loss(seed: int) -> None:
 
 
 def test_diffusion_under_corruption_and_jitter() -> None:
-    # Packets carry no checksum (dcd-vm.md §2), so a corrupted id byte makes a "new" program and a
+    # Packets carry no checksum (docs/vm.md), so a corrupted id byte makes a "new" program and a
     # corrupted coordinate that keeps the parity goes unnoticed; only the genuine program is checked.
     world = _diffuse(random_structure(30, 7), seed=3, packet_loss=0.05, packet_corruption=0.05,
                      latency_jitter_s=0.03)

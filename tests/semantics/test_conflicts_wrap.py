@@ -10,7 +10,7 @@ from rdcd_core.frontend import check_text
 from rdcd_core.types import PREDEFINED_VALUES
 from vm.interpreter import Frame, Outcome, run
 
-NORTH_SOUTH = PREDEFINED_VALUES["NORTH_SOUTH"].code  # where x, y and z are even (dcd-vm.md §5)
+NORTH_SOUTH = PREDEFINED_VALUES["NORTH_SOUTH"].code  # where x, y and z are even (docs/vm.md)
 B = "role B { self.x() >= 90; self.y() >= 90; }"
 
 

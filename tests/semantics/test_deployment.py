@@ -1,4 +1,4 @@
-"""Deployment, discovery order, role conflicts, dead roles, target limits (language.md §4, §6)."""
+"""Deployment, discovery order, role conflicts, dead roles, target limits (docs/language.md)."""
 
 from __future__ import annotations
 

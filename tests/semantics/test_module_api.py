@@ -1,4 +1,4 @@
-"""Argument counts and types of every call in the Module API table (language.md §5.4)."""
+"""Argument counts and types of every call in the Module API table (docs/language.md)."""
 
 from __future__ import annotations
 

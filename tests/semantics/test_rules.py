@@ -1,4 +1,4 @@
-"""One invalid program per static rule of language.md §3–§6: code, severity, line and range."""
+"""One invalid program per static rule of docs/language.md: code, severity, line and range."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""assumeRole scoping (language.md §5.5) and method rules (§5.1)."""
+"""assumeRole scoping (docs/language.md) and method rules (§5.1)."""
 
 from __future__ import annotations
 

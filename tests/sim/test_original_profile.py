@@ -1,5 +1,5 @@
 """Issue 11, acceptance 2 in the physics world, and ``rdcd simulate --vm`` end to end: the example
-programs in the VM profile ``original`` (the ATRON firmware, dcd-vm.md §10)."""
+programs in the VM profile ``original`` (the ATRON firmware, docs/vm.md)."""
 
 from __future__ import annotations
 

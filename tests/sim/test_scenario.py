@@ -1,4 +1,4 @@
-"""The obstacle program on simulated cars (spec/atron.md), judged from the report by sim.scenario.
+"""The obstacle program on simulated cars (docs/simulator.md), judged from the report by sim.scenario.
 
 Every scenario runs in CI (each takes a few seconds): the four shipped cars with a wall 1 m ahead
 for the default 60 s, car7 without an obstacle for 20 s, and one car7 run at 10 % packet loss.

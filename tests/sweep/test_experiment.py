@@ -4,7 +4,6 @@ file is one line naming the file and the key, exit status 2, and nothing runs.""
 from __future__ import annotations
 
 import itertools
-import shutil
 from pathlib import Path
 
 import pytest
@@ -28,15 +27,33 @@ def test_shipped_robustness_experiment_is_the_issue_grid() -> None:
     assert e.fixed["world"] == "physics" and e.fixed["duration"] == 60.0
 
 
-def test_init_writes_the_example_which_loads(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+def test_init_writes_the_example_and_its_program_which_load(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture) -> None:
     target = tmp_path / "new.toml"
     assert main(["sweep", "--init", str(target)]) == 0
     assert target.read_text(encoding="utf-8") == EXAMPLE.read_text(encoding="utf-8")
-    (tmp_path / "examples").mkdir()
-    shutil.copy(EXAMPLES / "obstacle_avoidance.rdcd", tmp_path / "examples")
+    program = tmp_path / "obstacle_avoidance.rdcd"
+    assert program.read_bytes() == (EXAMPLES / "obstacle_avoidance.rdcd").read_bytes()
+    assert f"wrote {target} and its program {program}" in capsys.readouterr().out
     e = load(target)
     assert e.size == 12 and e.checks[0] == "detected"
+    assert e.fixed["duration"] == 60.0  # long enough to be driving forward again at the end
     assert e.bounds == {"min_obstacle_distance_m": (0.01, None)}
+
+
+def test_the_example_cites_only_what_the_repository_has() -> None:
+    from tests.docs.references import dangling
+
+    text = EXAMPLE.read_text(encoding="utf-8")
+    assert list(dangling("sim/sweep/example.toml", text)) == []
+    assert "docs/simulator.md" in text and (ROOT / "docs" / "simulator.md").is_file()
+
+
+def test_init_twice_in_a_folder_shares_the_program(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    assert main(["sweep", "--init", str(tmp_path / "a.toml")]) == 0
+    assert main(["sweep", "--init", str(tmp_path / "b.toml")]) == 0
+    assert "its program: the existing" in capsys.readouterr().out
+    assert load(tmp_path / "b.toml").program_path == tmp_path / "obstacle_avoidance.rdcd"
 
 
 def test_init_never_overwrites(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
@@ -45,6 +62,16 @@ def test_init_never_overwrites(tmp_path: Path, capsys: pytest.CaptureFixture) ->
     assert main(["sweep", "--init", str(target)]) == 2
     assert target.read_text(encoding="utf-8") == "precious"
     assert "exists" in capsys.readouterr().err
+    assert not (tmp_path / "obstacle_avoidance.rdcd").exists()  # all or nothing
+
+
+def test_init_never_replaces_another_program(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    mine = tmp_path / "obstacle_avoidance.rdcd"
+    mine.write_text("role Mine { }\ndeployment { Mine }\n", encoding="utf-8")
+    assert main(["sweep", "--init", str(tmp_path / "new.toml")]) == 2
+    assert "is not the example program" in capsys.readouterr().err
+    assert mine.read_text(encoding="utf-8").startswith("role Mine")
+    assert not (tmp_path / "new.toml").exists()
 
 
 BAD = [

@@ -175,9 +175,14 @@ def test_interrupted_sweep_keeps_finished_runs_and_resumes_with_the_missing_ones
         except ProcessLookupError:
             pass
     assert process.returncode == 130, err
-    assert "run the same command again" in err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    said = [line for line in err.splitlines() if not line.startswith("[")]  # not the progress bar
+    assert len(said) == 1, err
+    assert said[0].startswith("rdcd sweep: interrupted: ") and " of 12 runs are done and kept in " in said[0]
+    assert said[0].endswith(f"to go on, run again: rdcd sweep {path} --out {out}")
     kept = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (out / "runs").glob("*.json")}
     assert 3 <= len(kept) < 12
+    assert f"interrupted: {len(kept)} of 12 runs are done" in err
     with open(out / "runs.csv", encoding="utf-8") as file:  # the table holds what had finished
         assert len(list(csv.DictReader(file))) == len(kept)
     again = subprocess.run(command, env=env(), capture_output=True, text=True, timeout=300)

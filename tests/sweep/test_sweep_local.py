@@ -15,7 +15,7 @@ from sim import sweep
 from sim.config import load_config
 from sim.sweep.rows import METRICS, measures
 from sim.sweep.tables import wilson
-from tests.sweep.helpers import LATTICE, experiment, stored_rows
+from tests.sweep.helpers import LATTICE, comparable, experiment, stored_rows
 
 
 @pytest.fixture(scope="module")
@@ -88,6 +88,42 @@ def test_python_api(finished: tuple[Path, Path]) -> None:
     assert sum(c["runs"] for c in cells) == 12
     assert all(c["ci95_low"] <= (c["success_rate"] or 0) <= c["ci95_high"] for c in cells)
     assert "95% interval" in results.table()
+
+
+def test_the_summary_says_which_checks_the_runs_missed(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    # 8 s of car7 and car11 with no obstacle: roles are found, nothing is detected, nothing turns
+    text = LATTICE.replace("[0.0, 0.3]", "[0.0]").replace("to = 3", "to = 2").replace(
+        'checks = ["roles"]', 'checks = ["roles", "detected", "turned"]\nmin_turn_deg = 10\n'
+        '[success.bounds]\nmessages_sent = { max = 1 }')
+    out = tmp_path / "out"
+    assert main(["sweep", str(experiment(tmp_path, text)), "--workers", "1", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    with open(out / "summary.csv", encoding="utf-8") as file:
+        cells = list(csv.DictReader(file))
+    assert [c["config"] for c in cells] == ["car7", "car11"]
+    for cell in cells:
+        assert {k: v for k, v in cell.items() if k.startswith("failed_")} == {
+            "failed_roles": "0", "failed_detected": "2", "failed_turned": "2", "failed_messages_sent": "2"}
+        assert cell["successes"] == "0"
+    head, *lines = printed.splitlines()[:3]
+    assert head.split()[-2:] == ["missed", "(runs)"]
+    assert all(line.endswith("detected 2, turned 2, messages_sent 2") for line in lines)
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert page.count("<td>detected 2, turned 2, messages_sent 2</td>") == 2
+
+
+def test_missed_counts_match_the_rows(finished: tuple[Path, Path]) -> None:
+    _, out = finished
+    with open(out / "runs.csv", encoding="utf-8") as file:
+        table = list(csv.DictReader(file))
+    with open(out / "summary.csv", encoding="utf-8") as file:
+        cells = list(csv.DictReader(file))
+    assert sum(int(c["failed_roles"]) for c in cells) > 0  # 30 % loss in 8 s: some runs miss a role
+    for cell in cells:
+        mine = [r for r in table if r["config"] == cell["config"]
+                and float(r["packet_loss"]) == float(cell["packet_loss"]) and r["status"] == "ok"]
+        assert int(cell["failed_roles"]) == sum(r["check_roles"] == "False" for r in mine)
+        assert int(cell["failed_roles"]) == int(cell["completed"]) - int(cell["successes"])
 
 
 def test_wilson_interval_known_values() -> None:
@@ -172,13 +208,32 @@ def test_configuration_files_and_random_structures_replay(tmp_path: Path,
     rows = stored_rows(out)
     assert len(rows) == 4 and all(r["status"] == "ok" for r in rows.values())
     generated = next(r for r in rows.values() if r["config"] == "random6-seed2")
-    assert f"--config {out}/configs/random6-seed2.json " in generated["simulate"]
+    # the name itself: `rdcd simulate --config` takes every name a sweep takes
+    assert " --config random6-seed2 " in generated["simulate"]
     for row in rows.values():
         report_path = tmp_path / "report.json"
         assert main([*shlex.split(row["simulate"])[1:], "--report", str(report_path)]) == 0
         report = json.loads(report_path.read_text(encoding="utf-8"))
-        assert report["messages"]["sent"] == row["messages_sent"]
-        assert report["messages"]["dropped"] == row["messages_dropped"]
+        name = str(tmp_path / "mine.json") if row["config"] == "mine.json" else row["config"]
+        structure = load_config(name)
+        again = {**row, **measures(report, structure)}
+        assert comparable(again) == comparable(row)  # every measure and check, exactly
+
+
+def test_a_random_physics_run_replays_exactly(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    text = LATTICE.replace('config = ["car7", "car11"]', 'config = ["random12-seed4"]').replace(
+        "[0.0, 0.3]", "[0.1]").replace("to = 3", "to = 1").replace("duration = 8", "duration = 3").replace(
+        'world = "lattice"', 'world = "physics"').replace('obstacle = "none"', 'obstacle = "wall:0.5"')
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "out"
+    assert main(["sweep", str(experiment(tmp_path, text)), "--workers", "1", "--out", str(out)]) == 0
+    (row,) = stored_rows(out).values()
+    assert row["status"] == "ok" and row["messages_sent"] > 0
+    report_path = tmp_path / "report.json"
+    assert main([*shlex.split(row["simulate"])[1:], "--report", str(report_path)]) == 0
+    report = json.loads(report_path.read_text(encoding="utf-8"))
+    assert report["config"] == "random12-seed4"
+    assert comparable({**row, **measures(report, load_config("random12-seed4"))}) == comparable(row)
 
 
 def test_summary_prints_what_is_done_and_runs_nothing(finished: tuple[Path, Path],

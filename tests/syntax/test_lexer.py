@@ -1,4 +1,4 @@
-"""The lexer: derived from grammar.lark, agrees with keywords.py and language.md §1."""
+"""The lexer: derived from grammar.lark, agrees with keywords.py and docs/language.md"""
 
 from __future__ import annotations
 

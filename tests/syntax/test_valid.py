@@ -1,4 +1,4 @@
-"""Valid programs: every construct of the grammar (language.md §2) and its AST."""
+"""Valid programs: every construct of the grammar (docs/language.md) and its AST."""
 
 from __future__ import annotations
 

@@ -17,7 +17,7 @@ from vm.roles import RoleTable
 SPREAD = assemble("SET_ROLE_NOTIFY 1\nMIGRATE_CONTINUE")
 ROLES = RoleTable({1: "Module", 2: "Front"}, {2: frozenset({1})})
 
-# car8-cyclic of atron.md: car7 plus EW (1,-1,0), closing a cycle driver - axle - wheel... - driver
+# car8-cyclic of docs/simulator.md: car7 plus EW (1,-1,0), closing a cycle driver - axle - wheel... - driver
 CAR8 = [Placed((0, 0, 0), nav.NORTH_SOUTH, nav.IDENTITY),
         Placed((0, 1, -1), nav.UP_DOWN, nav.MAPPINGS[3]),
         Placed((0, -1, -1), nav.UP_DOWN, nav.MAPPINGS[5]),

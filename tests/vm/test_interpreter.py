@@ -1,4 +1,4 @@
-"""Semantics of each instruction (dcd-vm.md §7), run by the interpreter against a real module
+"""Semantics of each instruction (docs/vm.md), run by the interpreter against a real module
 runtime on a fake HAL."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Assembler, disassembler and verifier (dcd-vm.md §7)."""
+"""Assembler, disassembler and verifier (docs/vm.md)."""
 
 from __future__ import annotations
 

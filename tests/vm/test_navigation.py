@@ -1,4 +1,4 @@
-"""Navigation table, ring rule and parity rule (dcd-vm.md §5) against the original VM's vectors."""
+"""Navigation table, ring rule and parity rule (docs/vm.md) against the original VM's vectors."""
 
 from __future__ import annotations
 

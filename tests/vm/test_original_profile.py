@@ -1,4 +1,4 @@
-"""The VM profile ``original`` (dcd-vm.md §10): one test per firmware limit and quirk, each beside
+"""The VM profile ``original`` (docs/vm.md): one test per firmware limit and quirk, each beside
 what the default profile (this project's corrected VM) does with the same code."""
 
 from __future__ import annotations

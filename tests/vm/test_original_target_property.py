@@ -1,6 +1,6 @@
 """Property (issue 11, acceptance 3): random valid programs compiled for the original target
 
-1. contain no opcode the firmware lacks (dcd-vm.md §10), in any fragment or embedded body;
+1. contain no opcode the firmware lacks (docs/vm.md), in any fragment or embedded body;
 2. never exceed its operand stack (5) nor its instructions per run (100) on any path: checked by
    an abstract walk of its own here, independent of the compiler's verifier;
 3. behave identically in the default and the ``original`` VM profiles on random tree-shaped
@@ -189,7 +189,7 @@ TAIL_S = 4.0
 
 
 def observe(program, placed: list[Placed], target: Target) -> Observation:  # noqa: ANN001
-    """Inject the fragments a little apart, as the firmware's loader does (dcd-vm.md §10), so that
+    """Inject the fragments a little apart, as the firmware's loader does (docs/vm.md), so that
     the default profile's acknowledged, one-at-a-time links do not change which fragment a module
     runs first (that would be a race between fragments, not a difference of the profiles)."""
     world = World(placed, role_table(program), target=target, dt=0.02)

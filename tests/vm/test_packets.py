@@ -1,4 +1,4 @@
-"""Packet encoding (dcd-vm.md §2) and the ack packet this VM adds."""
+"""Packet encoding (docs/vm.md) and the ack packet this VM adds."""
 
 from __future__ import annotations
 

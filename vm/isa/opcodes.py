@@ -1,5 +1,5 @@
-"""The DCD-VM instruction set (dcd-vm.md §7): the one table that the VM, the assembler, the
-disassembler, the verifier and the compiler read (DESIGN.md rule 1).
+"""The DCD-VM instruction set (docs/vm.md): the one table that the VM, the assembler, the
+disassembler, the verifier and the compiler read (docs/architecture.md rule 1).
 
 Any byte >= 128 that is not consumed as an operand is "push constant (byte - 128)".
 """
@@ -177,7 +177,7 @@ def signed_byte(value: int) -> int:
 
 MAX_STACK = 16
 MAX_STEPS_PER_RUN = 255
-SLOT_BYTES = 64  # a program store slot holds at most this many bytes (dcd-vm.md §1)
+SLOT_BYTES = 64  # a program store slot holds at most this many bytes (docs/vm.md)
 PROGRAM_SLOTS = 10  # programs a module stores at once
 STATE_SLOTS = 32  # bytes of state a module holds (values of the program's states)
 PUBLISHED_SLOTS = 8  # states 0..7 are published: neighbours keep the last value each sent

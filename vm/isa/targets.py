@@ -1,9 +1,10 @@
-"""The targets a program can be compiled for and a VM profile can behave like (DESIGN.md, "Targets").
+"""The targets a program can be compiled for and a VM profile can behave like (docs/architecture.md,
+"Targets").
 
 Each target is one description: which opcodes it executes, its limits and its quirks. The compiler,
 the verifier and the VM profile read these; no ``if original:`` elsewhere. ``default`` is this
-project's corrected DCD-VM (dcd-vm.md §1–§7); ``original`` is the ATRON firmware of 2007 as
-dcd-vm.md §10 measures it.
+project's corrected DCD-VM (docs/vm.md); ``original`` is the ATRON firmware of 2007 as
+docs/vm.md describes it.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from vm.isa.opcodes import BY_NAME, INSTRUCTIONS, MAX_STACK, MAX_STEPS_PER_RUN, 
 
 @dataclass(frozen=True, slots=True)
 class Quirks:
-    """The firmware's bugs (dcd-vm.md §10) that a VM profile reproduces and the compiler avoids."""
+    """The firmware's bugs (docs/vm.md) that a VM profile reproduces and the compiler avoids."""
 
     enable_event_toggles: bool = False  # ENABLE_EVENT flips the disabled flag instead of clearing it
     connected_dir_sizeof_popcount_of_count: bool = False  # CONNECTED_DIR_SIZEOF: bits set in the count
@@ -26,7 +27,7 @@ class Quirks:
     no_duplicate_suppression: bool = False  # programs circulate in cyclic structures
     ud_offsets_swapped: bool = False  # UD channel 5/7 x-offsets swapped (coordinates learned wrong)
     unknown_instruction_halts: bool = False  # an opcode it does not execute halts the module
-    no_acknowledgements: bool = False  # packets are sent once: no acks, no retransmission (dcd-vm.md §6)
+    no_acknowledgements: bool = False  # packets are sent once: no acks, no retransmission (docs/vm.md)
     negate_wraps: bool = False  # NEGATE of -128 gives -128 (8-bit wrap) instead of 127 (saturation)
 
 
@@ -41,10 +42,10 @@ class Target:
     quirks: Quirks
     description: str
     # (axis, direction) pairs for which CONNECTED_DIR_SIZEOF runs; None = every pair. Elsewhere the
-    # firmware halts the module (dcd-vm.md §10).
+    # firmware halts the module (docs/vm.md).
     dir_sizeof_pairs: frozenset[tuple[int, int]] | None = None
     # The program is built into the firmware as a C file (dcd_action, check_role_instanceof) rather
-    # than read at run time: the compiler's C form is that file (dcd-vm.md §10, "Loading").
+    # than read at run time: the compiler's C form is that file (docs/vm.md, "Loading").
     loads_c_file: bool = False
 
     def implements(self, opcode: int) -> bool:
@@ -71,12 +72,12 @@ DEFAULT = Target(
     slot_bytes=SLOT_BYTES,
     program_slots=PROGRAM_SLOTS,
     quirks=Quirks(),
-    description="this project's DCD-VM: the instruction set of dcd-vm.md §7 with its extensions",
+    description="this project's DCD-VM: the instruction set of docs/vm.md with its extensions",
 )
 
 ORIGINAL = Target(
     name="original",
-    # dcd-vm.md §10: 1–7, 12–18, 22, 24–27, 30–34, 36, 42–49, 51–55, 127
+    # docs/vm.md: 1–7, 12–18, 22, 24–27, 30–34, 36, 42–49, 51–55, 127
     opcodes=_ranges((1, 7), (12, 18), (22, 22), (24, 27), (30, 34), (36, 36), (42, 49), (51, 55),
                     (127, 127)),
     max_stack=5,
@@ -88,8 +89,8 @@ ORIGINAL = Target(
                   handler_refires_with_zero=True, apply_64_broadcasts=True,
                   no_duplicate_suppression=True, ud_offsets_swapped=True,
                   unknown_instruction_halts=True, no_acknowledgements=True, negate_wraps=True),
-    description="the ATRON firmware of 2007 (dcd-vm.md §10): fewer opcodes, stack 5, 100 steps, its quirks",
-    # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (dcd-vm.md §5, §10)
+    description="the ATRON firmware of 2007 (docs/vm.md): fewer opcodes, stack 5, 100 steps, its quirks",
+    # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (docs/vm.md)
     dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
     loads_c_file=True,
 )

@@ -1,4 +1,4 @@
-"""The fragment verifier (dcd-vm.md §7): run on every fragment at compile time and on receipt.
+"""The fragment verifier (docs/vm.md): run on every fragment at compile time and on receipt.
 
 Checks: known opcodes, operands present and in range (directions 4..9, events 0..7, commands
 1..5 or 128..132, PUSH_ARGUMENT's padding 0); then, walking the control-flow graph from offset 0:

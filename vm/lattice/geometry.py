@@ -1,7 +1,7 @@
 """A module's body frame and its rigid placement in the structure frame.
 
 Body frame: the joint runs along body +y; the physical north hemisphere (connectors 0-3) is at
-+y and connector ``p`` points along the NS row of dcd-vm.md §5 (connector 0 up-north, 1
++y and connector ``p`` points along the NS row of docs/vm.md (connector 0 up-north, 1
 west-north, ...), i.e. a module at the origin with axis NS and the identity mount has its body
 frame equal to the structure frame. ``placement`` gives the proper rotation (integer matrix,
 determinant +1) that carries the body frame of a module onto the structure frame; a world with

@@ -1,6 +1,6 @@
 """How a module sits on its lattice place: which physical connector is at each virtual channel.
 
-A module's axis line is fixed by its position (dcd-vm.md §5); what remains free is one of 8
+A module's axis line is fixed by its position (docs/vm.md); what remains free is one of 8
 symmetries that keep that line: a quarter-turn ``rotation`` about the axis (0..3) and whether the
 module is ``mirrored`` (turned end over end, so its physical north hemisphere, connectors 0-3,
 lies on the structure's virtual hemisphere 4-7). These are exactly the 8 maps the VM's
@@ -9,7 +9,7 @@ its true mount.
 
 Definition: not mirrored, virtual channel 0 holds physical ``rotation``; mirrored, it holds
 physical ``4 + rotation``. The other channels follow the rings 0-3 / 4-7 rotated in step, with
-the mirror pairing 0<->4, 1<->7, 2<->6, 3<->5 of dcd-vm.md §5.
+the mirror pairing 0<->4, 1<->7, 2<->6, 3<->5 of docs/vm.md
 """
 
 from __future__ import annotations

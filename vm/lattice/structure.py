@@ -1,7 +1,7 @@
 """A structure: ATRON modules on lattice places, with their mounts and connections.
 
 Validation (``StructureError`` names the offending module): lattice parity of each position
-against its axis (dcd-vm.md §5), no two modules in one place, coordinates that fit the packets'
+against its axis (docs/vm.md), no two modules in one place, coordinates that fit the packets'
 signed bytes, explicit connections only between adjacent modules, a connected whole, and an
 entry module at the origin with axis NS and the identity mount (it defines the frame).
 """

@@ -1,5 +1,5 @@
 """The physics-free lattice world: one ``vm.runtime.ModuleRuntime`` per module of a ``Structure``,
-talking only through ``LatticeHal`` (DESIGN.md rule 4).
+talking only through ``LatticeHal`` (docs/architecture.md rule 4).
 
 Time advances in ticks of ``tick_s``. Each tick: joints move, due packets are delivered, then the
 runtimes step in module-id order. Fast path: a module is stepped only when it has something to do
