@@ -149,9 +149,10 @@ def _arrow_type(pa: Any, name: str, plan: Plan) -> Any:
 def write_summary_csv(plan: Plan, cells: list[dict[str, Any]]) -> Path:
     path = plan.store.root / "summary.csv"
     e = plan.experiment
+    missed = criteria(e.checks, e.bounds, e.state, e.held_by)
     names = list(cells[0]) if cells else [*e.cell_axes, "runs", "completed", "failed", "successes",
                                           "success_rate", "ci95_low", "ci95_high",
-                                          *(f"{FAILED_PREFIX}{n}" for n in criteria(e.checks, e.bounds, e.state, e.held_by))]
+                                          *(f"{FAILED_PREFIX}{n}" for n in missed)]
 
     def write(file: BinaryIO) -> None:
         with _Utf8Text(file) as text:
