@@ -150,6 +150,7 @@ class FirmwareRuntime(ModuleRuntime):
         self._load: list[bytes] = []
         self._entry = False
         self._wake = 0.0
+        self._idle = False
         self._main = self._activate()
 
     # ---- world interface -------------------------------------------------------------------
@@ -174,7 +175,12 @@ class FirmwareRuntime(ModuleRuntime):
             self.bad_packets += 1
 
     def needs_step(self, events: bool = True) -> bool:
-        return not self.halted
+        """Idle (its main loop between steps with nothing queued) it only polls its sensors."""
+        if self.halted:
+            return False
+        if not self._idle or self.q_start != self.q_end:
+            return True
+        return events and any(v != NONE and not v & DISABLED for v in self.vectors)
 
     def step(self) -> None:
         if self.halted or (self._wake != STEP and self.hal.now() < self._wake):
@@ -199,7 +205,9 @@ class FirmwareRuntime(ModuleRuntime):
                 ctx.program_id = (ctx.program_id + 1) & 0xFF
         while True:
             yield from self._scheduler_action()
+            self._idle = True
             yield STEP
+            self._idle = False
 
     def _scheduler_action(self) -> Generator[float, None, None]:
         yield from self._check_events()
