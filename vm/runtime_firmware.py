@@ -151,6 +151,7 @@ class FirmwareRuntime(ModuleRuntime):
         self._entry = False
         self._wake = 0.0
         self._idle = False
+        self._fired: int | None = None  # the event whose handler ran in the last scheduler step
         self._main = self._activate()
 
     # ---- world interface -------------------------------------------------------------------
@@ -234,10 +235,15 @@ class FirmwareRuntime(ModuleRuntime):
         self.q_start = (start + 1) % QUEUE
 
     def _check_events(self) -> Generator[float, None, None]:
+        fired, self._fired = self._fired, None
         for vector in range(8):
             v = self.vectors[vector]
             if v != NONE and not v & DISABLED and self.hal.proximity(vector):
-                self._log("handler", {"event": vector})
+                if fired == vector:  # the same detection, one step later: counted, not logged
+                    self.handler_refires += 1
+                else:
+                    self._log("handler", {"event": vector})
+                self._fired = vector
                 stored = self.slots[v % SLOTS]
                 yield from self._interpret(stored.context, stored.code, 0)
                 return

@@ -157,7 +157,8 @@ def start(config: str, *, seed: int = 0, loss: float = 0.0, spacing_s: float | N
     return run
 
 
-def _diffuse(world: LatticeWorld, wanted: set[tuple[int, int]], limit_s: float, loader: int | None = None) -> bool:
+def _diffuse(world: LatticeWorld, wanted: set[tuple[int, int]], limit_s: float,
+             loader: int | None = None) -> bool:
     """Run until every module (but a loading entry module) has accepted every ``wanted`` program
     and the links are quiet."""
     while world.now() < limit_s:
