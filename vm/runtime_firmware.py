@@ -344,8 +344,10 @@ class FirmwareRuntime(ModuleRuntime):
     def _fail(self, number: int, argument: int, code: bytes | None = None, pc: int | None = None,
               what: str = "") -> None:
         """report_error: the module stops (dcdError.c). ``code``, ``pc``: the run that failed."""
-        where = f"pc {pc}: " if pc is not None else ""
-        message = f"{where}{what or ERRORS.get(number, 'error')} (error {number}.{argument}); module halted"
+        what = what or f"{ERRORS.get(number, 'error')} (error {number}.{argument})"
+        message = f"{what}; module halted"
+        if code is not None:  # a run's error, worded as the reports expect it
+            message = f"program run: pc {pc}: {message}"
         self.halted = True
         if code is not None:
             self.run_errors.append(RunError(self.hal.now(), message, code, pc, True))
@@ -356,7 +358,7 @@ class FirmwareRuntime(ModuleRuntime):
     # ---- commands --------------------------------------------------------------------------
     def _execute_command(self, command: int, argument: int) -> Wait:
         argument &= 0xFF
-        self._log("command", {"command": command, "arg": argument})
+        self._log("command", {"command": command, "arg": s8(argument)})
         hal = self.hal
         if command == 1:
             hal.rotate_continuously(argument)

@@ -105,7 +105,7 @@ def test_snake_wave_for_the_default_target_halts_on_the_firmware_at_equals_2() -
     (first,) = [m for m, r in world.runtimes.items() if r.halted]
     halted = world.runtimes[first]
     (error,) = halted.run_errors
-    assert error.message.startswith("pc 24: unknown instruction 8 (EQUALS_2)")
+    assert error.message.endswith("pc 24: unknown instruction 8 (EQUALS_2); module halted")
     assert error.message.endswith("module halted") and 8.0 <= error.t < 8.1
     program = compiled("default", SNAKE)
     discovery = program.fragment("discover_Head_Body").code
