@@ -172,8 +172,11 @@ class FirmwareRuntime(ModuleRuntime):
             self._handle_message(bytes(packet), int(physical_channel))
         except Halt:
             pass
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             self.bad_packets += 1
+        except Exception as e:  # a VM bug must not crash the world: report it on this module
+            self.halted = True
+            self._error(f"internal error: {type(e).__name__}: {e}")
 
     def needs_step(self, events: bool = True) -> bool:
         """Idle (its main loop between steps with nothing queued) it only polls its sensors."""
@@ -192,6 +195,9 @@ class FirmwareRuntime(ModuleRuntime):
             pass
         except StopIteration:
             self.halted = True
+        except Exception as e:  # a VM bug must not crash the world: report it on this module
+            self.halted = True
+            self._error(f"internal error: {type(e).__name__}: {e}")
 
     # ---- main loop -------------------------------------------------------------------------
     def _activate(self) -> Generator[float, None, None]:
@@ -551,11 +557,12 @@ class FirmwareRuntime(ModuleRuntime):
         command = raw - 128
         if (role > MAX_ROLES and role != ANY_ROLE) or command > ROLE_COMMANDS:
             self._fail(18, (role << 4) + command & 0xFF)
+        table = self.command_table  # command 5 writes into the next role's row, as in the firmware
         if role == ANY_ROLE:
-            self.command_table[command] = index
+            table[command] = index
         for r in range(1, MAX_ROLES):
-            if self.roles.is_instance(r, role):
-                self.command_table[r * ROLE_COMMANDS + command] = index
+            if self.roles.is_instance(r, role) and r * ROLE_COMMANDS + command < len(table):
+                table[r * ROLE_COMMANDS + command] = index
 
     def _connected_dir(self, ctx: Context, direction: int, code: bytes, at: int) -> int:
         """deprecated_compute_connected_dir: counts for the few axis/direction pairs it knows."""
