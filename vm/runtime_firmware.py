@@ -152,6 +152,7 @@ class FirmwareRuntime(ModuleRuntime):
         self._wake = 0.0
         self._idle = False
         self._fired: int | None = None  # the event whose handler ran in the last scheduler step
+        self._at: tuple[bytes | None, int | None] = (None, None)  # code and pc calling out, for observers
         self._main = self._activate()
 
     # ---- world interface -------------------------------------------------------------------
@@ -251,6 +252,8 @@ class FirmwareRuntime(ModuleRuntime):
                     self._log("handler", {"event": vector})
                 self._fired = vector
                 stored = self.slots[v % SLOTS]
+                if self.observer is not None and fired != vector:
+                    self.observer.handler_fired(self, vector, stored)  # type: ignore[arg-type]
                 yield from self._interpret(stored.context, stored.code, 0)
                 return
 
@@ -269,6 +272,8 @@ class FirmwareRuntime(ModuleRuntime):
             self._enqueue(FwTask(TASK_INTERPRET, slot=slot))
             self.programs_run += 1
             self._log("program", {"id": ident, "size": len(raw) - 7})
+            if self.observer is not None:
+                self.observer.program_stored(self, self.slots[slot])  # type: ignore[arg-type]
         elif kind == COMMAND and len(raw) >= 10:
             self._enqueue(FwTask(TASK_COMMAND, role=raw[7], command=raw[8], argument=raw[9], pch=ch,
                                  x=x, y=y, z=z, r=r, vch=vch, packet_id=ident))
@@ -309,6 +314,9 @@ class FirmwareRuntime(ModuleRuntime):
     def _header(self, ctx: Context, vch: int) -> tuple[int, tuple[int, int, int, int, int]] | None:
         """(physical channel, receiver x y z axis vch) for sending on virtual ``vch``; None when
         nobody is attached there."""
+        if not (0 <= ctx.in_vch < 8 and 0 <= ctx.in_pch < 8):
+            # a header with a channel past 7: the firmware reads outside its tables (undefined)
+            self._fail(6, ctx.in_vch)
         pch = virtual_to_physical(ctx, vch)
         table = _RECEIVER.get(ctx.r)
         if table is None:
@@ -365,6 +373,8 @@ class FirmwareRuntime(ModuleRuntime):
     def _execute_command(self, command: int, argument: int) -> Wait:
         argument &= 0xFF
         self._log("command", {"command": command, "arg": s8(argument)})
+        if self.observer is not None:
+            self.observer.command_executed(self, command, s8(argument), *self._at)
         hal = self.hal
         if command == 1:
             hal.rotate_continuously(argument)
@@ -387,6 +397,8 @@ class FirmwareRuntime(ModuleRuntime):
         return 0
 
     def _send_command_all(self, ctx: Context, role: int, command: int, argument: int) -> Wait:
+        if self.observer is not None:
+            self.observer.command_sent(self, role, command, s8(argument), *self._at)
         for ch in range(8):
             self._send_command(ctx, ch, role, command, argument, None)
         if self.roles.is_instance(self.role, role):
@@ -456,6 +468,7 @@ class FirmwareRuntime(ModuleRuntime):
             elif op == 16:
                 pc = operand(0)
             elif op == 17:
+                self._at = (code, at)
                 self._set_role(ctx, operand(0))
                 pc += 1
             elif op == 18:
@@ -466,6 +479,7 @@ class FirmwareRuntime(ModuleRuntime):
             elif op == 33:
                 command, arg = operand(0), operand(1)
                 pc += 2
+                self._at = (code, at)
                 yield from self._execute_command(command, arg)
             elif op == 127 or op == 51:
                 pass
@@ -476,10 +490,13 @@ class FirmwareRuntime(ModuleRuntime):
             elif op == 30:
                 vector, adr, n = operand(0), operand(1), operand(2)
                 pc += 3
-                self.vectors[vector & 7] = self._save(ctx, code[adr:adr + n])
+                self.vectors[vector & 7] = index = self._save(ctx, code[adr:adr + n])
+                if self.observer is not None:
+                    self.observer.handler_installed(self, vector, self.slots[index], code, at)  # type: ignore[arg-type]
             elif op == 42:
                 role, raw, adr, n = operand(0), operand(1), operand(2), operand(3)
                 pc += 4
+                self._at = (code, at)
                 self._install_command(ctx, code[adr:adr + n], role, raw)
             elif op == 32:
                 vector = operand(0) & 7
@@ -499,6 +516,7 @@ class FirmwareRuntime(ModuleRuntime):
             elif op == 31:
                 role, command, arg = operand(0), operand(1), operand(2)
                 pc += 3
+                self._at = (code, at)
                 yield from self._send_command_all(ctx, role, command, arg)
             elif op == 43:
                 yield self.hal.now() + SLEEP_S - 1e-9
@@ -517,6 +535,7 @@ class FirmwareRuntime(ModuleRuntime):
                     i = (i + 1) % QUEUE
             elif op == 52:
                 function, arg = pop() & 0xFF, pop() & 0xFF
+                self._at = (code, at)
                 if function < 64 or function >= 128:
                     yield from self._execute_command(function, arg)
                 elif function == 64:
@@ -546,6 +565,8 @@ class FirmwareRuntime(ModuleRuntime):
         if role != self.role:
             self.role_history.append((self.hal.now(), role))
             self._log("role", {"role": role, "name": self.roles.name(role)})
+            if self.observer is not None:
+                self.observer.role_set(self, role, *self._at)
         self.role = role
         for ch in range(8):
             self._notify(ctx, ch, role)
@@ -563,6 +584,8 @@ class FirmwareRuntime(ModuleRuntime):
         for r in range(1, MAX_ROLES):
             if self.roles.is_instance(r, role) and r * ROLE_COMMANDS + command < len(table):
                 table[r * ROLE_COMMANDS + command] = index
+        if self.observer is not None:
+            self.observer.command_installed(self, role, raw, self.slots[index], *self._at)  # type: ignore[arg-type]
 
     def _connected_dir(self, ctx: Context, direction: int, code: bytes, at: int) -> int:
         """deprecated_compute_connected_dir: counts for the few axis/direction pairs it knows."""

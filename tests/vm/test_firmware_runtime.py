@@ -169,5 +169,5 @@ def test_garbage_packets_and_programs_never_raise(packets: list[tuple[int, bytes
         rt.receive(channel, raw)
         steps(rt, hal, 0.03)
     steps(rt, hal, 1.5)
-    assert all("internal error" not in m for _, m in rt.errors)
+    assert all("internal error" not in m for _, m in rt.errors), rt.errors
     assert 0 <= rt.q_start < 10 and 0 <= rt.q_end < 10
