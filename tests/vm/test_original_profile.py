@@ -1,5 +1,10 @@
 """The VM profile ``original`` (dcd-vm.md §10): one test per firmware limit and quirk, each beside
-what the default profile (this project's corrected VM) does with the same code."""
+what the default profile (this project's corrected VM) does with the same code.
+
+These run the quirk flags of ``vm.isa.targets`` in this project's interpreter and
+``vm.runtime.ModuleRuntime`` (which the compiler's firmware model also uses). The worlds run a
+module of this target with the firmware's own controller (``vm.runtime_firmware``, the quirk
+``firmware_controller``); tests/vm/test_firmware_runtime.py and tests/firmware check that one."""
 
 from __future__ import annotations
 
