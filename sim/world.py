@@ -28,6 +28,7 @@ from vm.lattice.network import Network
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
 from vm.runtime import ModuleRuntime
+from vm.runtime_firmware import make_runtime
 
 
 @dataclass
@@ -85,7 +86,7 @@ class PhysicsWorld:
     # --- VMs -------------------------------------------------------------------------------
     def add_runtimes(self, roles: RoleTable, seed: int, target: Target = DEFAULT) -> dict[int, ModuleRuntime]:
         for mid, hal in self.hals.items():
-            self.runtimes[mid] = ModuleRuntime(hal, roles, module_id=mid, seed=seed, target=target)
+            self.runtimes[mid] = make_runtime(hal, roles, module_id=mid, seed=seed, target=target)
         return self.runtimes
 
     def vm_tick(self) -> None:

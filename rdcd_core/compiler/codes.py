@@ -61,3 +61,11 @@ HANDLER_REFIRES = define_code(
     "// rdcd check --target original\n"
     "role A { self.x() > 0;\n  startup s() { self.handleEvent(EVENT_PROXIMITY_0, { self.setLed(1); }); } }\n"
     "deployment { A }")
+HANDLER_MISSED = define_code(
+    "W605", _W, "an event handler can miss an object while a behaviour of its module sleeps (original "
+                "target: sensors are looked at only between tasks)",
+    "// rdcd check --target original\n"
+    "role A { self.x() > 0;\n"
+    "  startup s() { self.handleEvent(EVENT_PROXIMITY_0, { self.disableEvent(EVENT_PROXIMITY_0); }); }\n"
+    "  behavior b() { self.sleep(); } }\n"
+    "deployment { A }")

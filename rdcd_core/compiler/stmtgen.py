@@ -231,7 +231,28 @@ def _handle_event(args: tuple, ctx: Context, out: list[Item], span: object) -> N
     body = body_of(args[1], ctx, "END_TERMINATE")
     ctx.mixins = saved
     _warn_refiring(body, event, ctx, span)
+    _warn_missed(event, ctx, span)
     emit(out, "HANDLE_EVENT", event, body, span=span)
+
+
+SLEEPS = ("sleep", "sleepWhileTurning")
+
+
+def _warn_missed(event: int, ctx: Context, span: object) -> None:
+    """On the firmware a module looks at its sensors only between tasks, and a sleeping behaviour
+    blocks it (for a second, or until the joint has turned): an object seen meanwhile is missed."""
+    if not ctx.target.quirks.firmware_controller:
+        return
+    for method in ctx.model.roles[ctx.role].methods.values():
+        if method.kind is not ast.MethodKind.BEHAVIOR or method.decl.body is None:
+            continue
+        nodes = ast.walk(method.decl.body)
+        if any(isinstance(node, ast.SelfCall) and node.name.text in SLEEPS for node in nodes):
+            ctx.report(codes.HANDLER_MISSED, span,  # type: ignore[arg-type]
+                       f"in role {ctx.role}: behaviour {method.name} sleeps, and on the {ctx.target.name} "
+                       f"target the module looks at its sensors only between tasks: an object seen by "
+                       f"EVENT_PROXIMITY_{event} for less than a sleep is never noticed")
+            return
 
 
 def _warn_refiring(body: Body, event: int, ctx: Context, span: object) -> None:

@@ -24,10 +24,12 @@ def test_strict_isa_example():
 
 
 def test_target_examples_trigger_their_code():
-    for code, target in (("E605", "original"), ("E608", "default"), ("W604", "original")):
+    for code, target in (("E605", "original"), ("E608", "default"), ("W604", "original"),
+                         ("W605", "original")):
         found = [d.code for d in check_text(code_info(code).example, target=target).diagnostics]
         assert code in found, (code, found)
-    assert "W604" not in [d.code for d in check_text(code_info("W604").example).diagnostics]
+    for code in ("W604", "W605"):
+        assert code not in [d.code for d in check_text(code_info(code).example).diagnostics]
 
 
 def test_backstop_examples_are_rejected_by_the_checker_first():

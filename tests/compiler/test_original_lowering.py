@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
 from tests.compiler.firmware_run import ORIGINAL, Module, run, run_default
+from tests.conftest import EXAMPLES
 from vm.isa.verifier import verify
 
 AXES = ("EAST_WEST", "NORTH_SOUTH", "UP_DOWN")
@@ -204,6 +205,29 @@ def test_handlers_that_do_not_disable_their_event_first_are_warned_about():
     assert "EVENT_PROXIMITY_3" in warned[0] and "EVENT_PROXIMITY_4" in warned[1]
     assert all("in role A" in d.message for d in result.diagnostics if d.code == "W604")
     assert not [d for d in check_text(text).diagnostics if d.code == "W604"]
+
+
+def test_handlers_a_sleeping_behaviour_can_make_the_firmware_miss_are_warned_about():
+    """W605: the firmware looks at its sensors between tasks only, and SLEEP blocks the module."""
+    text = ("role A { self.y() > 0;\n"
+            "  startup s() {\n"
+            "    self.handleEvent(EVENT_PROXIMITY_1, { self.disableEvent(EVENT_PROXIMITY_1); }); }\n"
+            "  behavior b() { if (self.y() > 1) { self.sleepWhileTurning(2); } } }\n"
+            "role B { self.y() < 0;\n"
+            "  startup s() {\n"
+            "    self.handleEvent(EVENT_PROXIMITY_1, { self.disableEvent(EVENT_PROXIMITY_1); }); }\n"
+            "  behavior b() { self.turnTowards(10); } }\n"
+            "deployment { A, B }\n")
+    result = check_text(text, target="original")
+    (warning,) = [d for d in result.diagnostics if d.code == "W605"]
+    assert text[warning.span.start:warning.span.end].startswith("self.handleEvent(EVENT_PROXIMITY_1")
+    assert warning.span.start < text.index("role B") and "in role A: behaviour b sleeps" in warning.message
+    assert not [d for d in check_text(text).diagnostics if d.code == "W605"]
+    snake = (EXAMPLES / "snake_wave.rdcd").read_text(encoding="utf-8")
+    (warning,) = [d for d in check_text(snake, target="original").diagnostics if d.code == "W605"]
+    assert snake[:warning.span.start].count("\n") + 1 == 24  # the Head's handleEvent
+    obstacle = (EXAMPLES / "obstacle_avoidance.rdcd").read_text(encoding="utf-8")
+    assert not [d for d in check_text(obstacle, target="original").diagnostics if d.code == "W605"]
 
 
 def test_run_time_speeds_turn_the_same_without_negate():

@@ -1,5 +1,5 @@
 """Issue 11, acceptance 2 in the lattice world: the example programs in the VM profile ``original``
-(the ATRON firmware as docs/vm.md describes it), compiled for the original target and, to show
+(the ATRON firmware as dcd-vm.md §10 describes it), compiled for the original target and, to show
 what a user meets on the robot, for the default target."""
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ def test_obstacle_program_for_the_default_target_also_runs_on_the_firmware_of_a_
     assert without_wrong_x(reverse_scenario(run).problems) == []
 
 
-def _snake(target: str, vm, seconds: float = 20.0) -> tuple[LatticeWorld, dict[int, list[float]]]:  # noqa: ANN001
+def _snake(target: str, vm, seconds: float = 50.0) -> tuple[LatticeWorld, dict[int, list[float]]]:  # noqa: ANN001
     from sim.config import load_config
     from sim.run import role_table
 
@@ -97,64 +97,76 @@ def test_snake_wave_for_the_original_target_finds_head_and_body_and_waves() -> N
 
 def test_snake_wave_for_the_default_target_halts_on_the_firmware_at_equals_2() -> None:
     """The failure the issue met on the robot: the discovery fragment uses EQUALS_2, which the
-    firmware does not implement; the entry module halts and nothing spreads or waves."""
-    world, angles = _snake("default", ORIGINAL, seconds=10.0)
+    firmware does not implement. The entry module only sends it (dcd_action, at 8 s); its
+    neighbour runs it and halts, so nothing spreads further or waves."""
+    world, angles = _snake("default", ORIGINAL, seconds=30.0)
     entry = world.runtimes[world.structure.entry]
-    assert entry.halted
-    (error,) = entry.run_errors
-    assert error.message.endswith("unknown instruction 8 (EQUALS_2); module halted")
+    assert not entry.halted and entry.programs_run == 0
+    (first,) = [m for m, r in world.runtimes.items() if r.halted]
+    halted = world.runtimes[first]
+    (error,) = halted.run_errors
+    assert error.message.endswith("pc 24: unknown instruction 8 (EQUALS_2); module halted")
+    assert error.message.endswith("module halted") and 8.0 <= error.t < 8.1
     program = compiled("default", SNAKE)
     discovery = program.fragment("discover_Head_Body").code
     assert error.code == discovery and discovery[error.pc] == 8
-    assert all(r.role == 0 and r.programs_run == 0 for m, r in world.runtimes.items() if m != entry.module_id)
+    assert all(r.role == 0 and r.programs_run == 0 for m, r in world.runtimes.items() if m not in (first,))
     assert all(a == 0.0 for values in angles.values() for a in values)
     # the same code waves in this project's VM
     default_world, default_angles = _snake("default", DEFAULT, seconds=10.0)
     assert "Head" in default_world.roles_by_name().values()
 
 
-def test_car8_cyclic_shows_the_circulation_failure_on_the_firmware() -> None:
-    """No duplicate suppression: every fragment goes round the cycle driver – rear axle – bridge
-    for ever, each lap runs it again on every module of the cycle, and the stores and queues of
-    the modules on the cycle overflow (docs/vm.md)."""
+def test_car8_cyclic_on_the_firmware_fills_stores_and_queues_on_the_cycle() -> None:
+    """No duplicate suppression: the fragments go round the cycle driver – rear axle – bridge and
+    run again on each lap, until program stores and task queues of modules on the cycle overflow
+    and those modules stop (the firmware's report_error never returns). The entry module loads
+    the fragments first (8 s each) and forwards little."""
     structure_name = "car8-cyclic"
-    run = start(structure_name, target="original", vm=ORIGINAL, limit_s=8.0, margin_s=0.0)
-    runtimes = run.world.runtimes
+    run = start(structure_name, target="original", vm=ORIGINAL, limit_s=40.0, margin_s=0.0)
+    world = run.world
+    world.advance(120.0 - world.now())
     counts = run.run_counts()
     assert any(n > 1 for c in counts.values() for n in c.values())  # fragments ran again and again
-    messages = [m for r in runtimes.values() for _, m in r.errors]
-    assert any("not accepted" in m and ("task queue full" in m or "program slots are in use" in m)
-               for m in messages)
-    before = run.world.counters.sent
-    run.world.advance(2.0)
-    assert run.world.counters.sent - before > 100  # still circulating
+    halted = {m: r.errors[0][1] for m, r in world.runtimes.items() if r.halted}
+    assert sorted(halted) == [2, 3, 4]
+    assert "task queue full" in halted[2] and all("program store full" in halted[m] for m in (3, 4))
+    entry = world.runtimes[world.structure.entry]
+    assert entry.stats()["sent"] == 60 and not entry.errors
     default = start(structure_name, target="original", vm=DEFAULT)
     assert default.problems() == []
 
 
-def _flashes_with_an_obstacle_at_the_head(vm) -> tuple[int, int]:  # noqa: ANN001
-    """snake_wave (original target) with an obstacle cell in front of the Head's sensor 0 for
-    2 s: (handler detections logged, flash commands run on the Body modules)."""
-    world, _ = _snake("original", vm, seconds=6.0)
+def _head_sees(vm, at: float, seconds: float) -> tuple[int, list[float]]:  # noqa: ANN001
+    """snake_wave (original target) with an obstacle cell in front of the Head's sensor 0 from
+    ``at`` for ``seconds``: (detections logged by the Head, times its handler ran)."""
+    world, _ = _snake("original", vm, seconds=at)
     structure = world.structure
     head = max(structure.modules, key=lambda m: structure.modules[m].position[1])
     (x, y, z), (dx, dy, dz) = structure.modules[head].position, structure.physical_direction(head, 0)
     since = len(world.events)
     world.set_obstacles(frozenset({(x + dx, y + dy, z + dz)}))
-    world.advance(2.0)
+    world.advance(seconds)
     world.set_obstacles(frozenset())
     world.advance(1.0)
     events = world.events[since:]
-    detections = sum(1 for _, m, kind, _ in events if kind == "handler" and m == head)
-    flashes = sum(1 for _, m, kind, d in events if kind == "command" and d["command"] == 128 and m != head)
-    assert world.runtimes[head].stats()["handler_refires"] == flashes // 3 - 1  # runs after the first
-    return detections, flashes
+    detections = [t for t, m, kind, _ in events if kind == "handler" and m == head]
+    return len(detections) + world.runtimes[head].stats()["handler_refires"], detections
 
 
-def test_a_handler_that_keeps_its_event_enabled_re_fires_on_the_firmware() -> None:
-    """snake_wave's Head handler does not disable its event (the compiler warns, W604): on the
-    firmware it runs on every scheduler step while the sensor sees, flooding flash commands."""
-    detections, flashes = _flashes_with_an_obstacle_at_the_head(ORIGINAL)
-    assert detections == 1 and flashes > 3 * 20  # 3 Body modules, about every step for 2 s
-    detections, flashes = _flashes_with_an_obstacle_at_the_head(DEFAULT)
-    assert (detections, flashes) == (1, 3)  # once per detection in this project's VM
+def test_an_object_seen_while_the_head_sleeps_is_missed_on_the_firmware() -> None:
+    """The firmware looks at its sensors between tasks only, and the Head's behaviour sleeps a
+    second at a time (SLEEP blocks the module): half a second of an object in between is never
+    noticed. This project's VM notices it."""
+    runs, _ = _head_sees(ORIGINAL, 45.3, 0.5)
+    assert runs == 0
+    runs, _ = _head_sees(DEFAULT, 45.3, 0.5)
+    assert runs == 1
+
+
+def test_a_handler_runs_at_most_once_a_second_while_its_module_sleeps_in_a_loop() -> None:
+    """snake_wave's Head handler does not disable its event (the compiler warns, W604); on the
+    firmware it could run on every scheduler step while the sensor sees, but the Head is blocked
+    in SLEEP for all but one step a second: two seconds of an object, one or two runs."""
+    runs, times = _head_sees(ORIGINAL, 45.0, 2.0)
+    assert 1 <= runs <= 2 and len(times) == 1

@@ -44,16 +44,27 @@ def _failed(checks: dict[str, bool]) -> list[str]:
 
 
 def test_car7_avoids_a_wall_on_the_firmware() -> None:
-    report = run("obstacle_avoidance.rdcd", "car7", "original", 60.0)
+    # the entry module loads the 4 fragments 8 s apart before anything drives
+    report = run("obstacle_avoidance.rdcd", "car7", "original", 90.0)
     assert (report["vm"], report["target"]) == ("original", "original")
     assert _failed(judge_obstacle(report, load_config("car7"))) == []
     assert not any(m["errors"] for m in report["modules"])
 
 
 @pytest.mark.slow
-def test_car11_avoids_a_wall_on_the_firmware() -> None:
-    report = run("obstacle_avoidance.rdcd", "car11", "original", 60.0)
-    assert _failed(judge_obstacle(report, load_config("car11"))) == []
+def test_car11_reverses_at_a_wall_on_the_firmware_but_does_not_clear_it() -> None:
+    """On the firmware SLEEP_ROTATIONS 3 ends when the joint has come back to its starting
+    quarter three times (less than three turns), so the car reverses and turns less; car11 meets
+    the wall again and again (README, known limits). Every wheel takes Reverse and leaves it."""
+    report = run("obstacle_avoidance.rdcd", "car11", "original", 90.0)
+    assert not any(m["errors"] for m in report["modules"])
+    wheels = [m for m in report["modules"] if m["role_history"] and "Wheel" in m["role_history"][0][1]]
+    assert len(wheels) == 6
+    for m in wheels:
+        names = [r for _, r in m["role_history"]]
+        assert names[0] in ("LeftWheel", "RightWheel") and f"Reverse@{names[0]}" in names
+        assert names.count(names[0]) >= 2  # back to its base role after reversing
+    assert "no_reverse_left" in _failed(judge_obstacle(report, load_config("car11")))
 
 
 def _joint_commands(report: dict) -> dict[int, list[tuple[int, int]]]:
@@ -65,7 +76,7 @@ def _joint_commands(report: dict) -> dict[int, list[tuple[int, int]]]:
 
 
 def test_snake_wave_finds_head_and_body_and_waves_on_the_firmware() -> None:
-    report = run("snake_wave.rdcd", "snake5", "original", 20.0, obstacle="none")
+    report = run("snake_wave.rdcd", "snake5", "original", 45.0, obstacle="none")
     roles = {m["id"]: m["final_role"] for m in report["modules"]}
     assert roles == {0: None, 1: "Body", 2: "Body", 3: "Body", 4: "Head"}
     assert not any(m["errors"] for m in report["modules"])
@@ -80,14 +91,15 @@ def test_snake_wave_finds_head_and_body_and_waves_on_the_firmware() -> None:
 
 
 def test_car8_cyclic_programs_circulate_on_the_firmware() -> None:
-    report = run("obstacle_avoidance.rdcd", "car8-cyclic", "original", 20.0)
-    messages = [e["message"] for m in report["modules"] for e in m["errors"]]
-    assert any("not accepted" in m and ("task queue full" in m or "program slots are in use" in m)
-               for m in messages)
+    """Fragments go round the cycle and run again on each lap until stores or task queues of
+    modules on the cycle overflow; the firmware stops such a module for good."""
+    report = run("obstacle_avoidance.rdcd", "car8-cyclic", "original", 60.0)
+    halted = [e["message"] for m in report["modules"] for e in m["errors"] if e["message"].endswith("halted")]
+    assert halted and all("task queue full" in m or "program store full" in m for m in halted)
+    assert not report["modules"][0]["errors"]  # the entry module loads, then forwards little
     default = simulate(program("obstacle_avoidance.rdcd", "original"), load_config("car8-cyclic"),
-                       Options(config="car8-cyclic", duration=20.0))
+                       Options(config="car8-cyclic", duration=60.0))
     assert not any(m["errors"] for m in default["modules"])
-    assert report["messages"]["sent"] > 20 * default["messages"]["sent"]  # copies going round the cycle
 
 
 def _cli(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[str], dict | None]:
@@ -98,14 +110,16 @@ def _cli(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[str], 
 
 
 def test_cli_shows_the_equals_2_halt_of_default_code_on_the_firmware(tmp_path: Path) -> None:
+    # the entry module sends the discovery fragment at 8 s (dcd_action); its neighbour halts on it
     done, report = _cli(tmp_path, str(SNAKE), "--config", "snake5", "--world", "physics",
-                        "--duration", "3", "--vm", "original", "--target", "default")
+                        "--duration", "9", "--vm", "original", "--target", "default")
     assert done.returncode == 0, done.stderr
     assert "(original VM, program compiled for the default target)" in done.stdout
-    assert "module 0, fragment discover_Head_Body, pc 24: unknown instruction 8 (EQUALS_2); module halted" \
+    assert "module 1, fragment discover_Head_Body, pc 24: unknown instruction 8 (EQUALS_2); module halted" \
         in done.stdout
     assert report is not None and (report["vm"], report["target"]) == ("original", "default")
-    (error,) = report["modules"][0]["errors"]
+    assert not report["modules"][0]["errors"]
+    (error,) = report["modules"][1]["errors"]
     assert (error["fragment"], error["pc"]) == ("discover_Head_Body", 24)
     assert all(m["final_role"] is None for m in report["modules"])
 

@@ -29,6 +29,10 @@ class Quirks:
     unknown_instruction_halts: bool = False  # an opcode it does not execute halts the module
     no_acknowledgements: bool = False  # packets are sent once: no acks, no retransmission (docs/vm.md)
     negate_wraps: bool = False  # NEGATE of -128 gives -128 (8-bit wrap) instead of 127 (saturation)
+    # the module runs the firmware's own controller (vm.runtime_firmware, docs/firmware.md): one
+    # scheduler step checks the sensors then runs one task; SLEEP, handlers and commands block the
+    # module; contexts per stored program; the entry module loads the fragments 8 s apart first
+    firmware_controller: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,8 +92,9 @@ ORIGINAL = Target(
                   connected_dir_sizeof_limited=True, connected_physical_bits=True,
                   handler_refires_with_zero=True, apply_64_broadcasts=True,
                   no_duplicate_suppression=True, ud_offsets_swapped=True,
-                  unknown_instruction_halts=True, no_acknowledgements=True, negate_wraps=True),
-    description="the ATRON firmware of 2007 (docs/vm.md): fewer opcodes, stack 5, 100 steps, its quirks",
+                  unknown_instruction_halts=True, no_acknowledgements=True, negate_wraps=True,
+                  firmware_controller=True),
+    description="the ATRON firmware of 2007 (docs/firmware.md): fewer opcodes, stack 5, 100 steps, its quirks",
     # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (docs/vm.md)
     dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
     loads_c_file=True,

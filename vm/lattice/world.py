@@ -20,6 +20,7 @@ from vm.lattice.network import Counters, Network
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
 from vm.runtime import ModuleRuntime
+from vm.runtime_firmware import make_runtime
 
 Vec = tuple[int, int, int]
 Event = tuple[float, int, str, dict[str, Any]]
@@ -76,7 +77,7 @@ class LatticeWorld:
         self.runtimes: dict[int, ModuleRuntime] = {}
         for mid in structure.modules:
             hal = LatticeHal(self, mid, joint_speed_turns_per_s * 360.0)
-            runtime = ModuleRuntime(hal, role_table, module_id=mid, seed=seed, target=target)
+            runtime = make_runtime(hal, role_table, module_id=mid, seed=seed, target=target)
             runtime.on_event = self._recorder(mid)
             self.hals[mid], self.runtimes[mid] = hal, runtime
 
