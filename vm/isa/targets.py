@@ -94,7 +94,7 @@ ORIGINAL = Target(
                   no_duplicate_suppression=True, ud_offsets_swapped=True,
                   unknown_instruction_halts=True, no_acknowledgements=True, negate_wraps=True,
                   firmware_controller=True),
-    description="the ATRON firmware of 2007 (docs/firmware.md): fewer opcodes, stack 5, 100 steps, its quirks",
+    description="the ATRON firmware of 2007 (docs/firmware.md): fewer opcodes, stack 5, 100 steps, quirks",
     # axis codes EW 1, NS 2; directions EAST 4, WEST 5, NORTH 6, UP 8, DOWN 9 (docs/vm.md)
     dir_sizeof_pairs=frozenset({(2, 6), (2, 9), (1, 8), (1, 4), (1, 5), (1, 9), (1, 6)}),
     loads_c_file=True,
