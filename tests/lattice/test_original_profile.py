@@ -1,5 +1,5 @@
 """Issue 11, acceptance 2 in the lattice world: the example programs in the VM profile ``original``
-(the ATRON firmware as dcd-vm.md §10 describes it), compiled for the original target and, to show
+(the ATRON firmware as docs/firmware.md describes it), compiled for the original target and, to show
 what a user meets on the robot, for the default target."""
 
 from __future__ import annotations
