@@ -1,0 +1,80 @@
+"""examples/obstacle_memory.rdcd in the lattice world: the paper's car counts its detections in
+module state and stops for good after the third (issue 17). An obstacle cell is put ahead of a
+front wheel's watched sensor until the handler fires, then taken away; this is repeated until
+the car has detected three times, and once more to show that nothing watches any longer."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.integration.lattice_harness import (
+    CARS,
+    ROOT,
+    WATCHED_SENSOR,
+    LatticeRun,
+    _handlers,
+    _spin,
+    compiled,
+    front_wheel,
+    start,
+)
+
+PROGRAM = ROOT / "examples" / "obstacle_memory.rdcd"
+BACK_S = 30.0  # a Reverse lasts three joint turns (18 s); the wheels then watch again
+
+
+def _stops(run: LatticeRun, module: int) -> int:
+    index = next(s.index for s in compiled("default", PROGRAM).states if s.name == "stops")
+    return run.world.runtimes[module].state[index]
+
+
+def _detect(run: LatticeRun, cell: tuple[int, int, int]) -> list[int]:
+    """Show the obstacle for up to 3 s (until a handler fires), hide it, let the car react."""
+    world = run.world
+    since = len(world.events)
+    world.set_obstacles(frozenset({cell}))
+    t0 = world.now()
+    while world.now() - t0 < 3.0 and not _handlers(world, since):
+        world.advance(0.01)
+    world.set_obstacles(frozenset())
+    world.advance(BACK_S)
+    return [m for _, m in _handlers(world, since)]
+
+
+@pytest.mark.parametrize("config", CARS)
+def test_the_car_stops_for_good_after_the_third_detection(config: str) -> None:
+    run = start(config, seed=2, path=PROGRAM)
+    assert run.problems() == []
+    structure, world = run.structure, run.world
+    wheels = {m: r for m, r in structure.expected_roles.items() if r in WATCHED_SENSOR}
+    axles = [m for m, r in structure.expected_roles.items() if r == "Axle"]
+    detector, cell = front_wheel(structure)
+    for detection in (1, 2, 3):
+        assert _detect(run, cell) == [detector], f"detection {detection}"
+        assert {m: _stops(run, m) for m in wheels} == dict.fromkeys(wheels, detection)
+        names = world.role_table.name
+        for m, base in wheels.items():
+            history = [names(r) for _, r in world.runtimes[m].role_history]
+            assert history.count(f"Reverse@{base}") == min(detection, 2), (m, history)
+        spins = {m: _spin(world, m) for m in wheels}
+        if detection < 3:  # back on their way after reversing
+            assert all(spins[m] * (1 if wheels[m] == "RightWheel" else -1) > 0 for m in wheels), spins
+        else:  # stopped for good
+            assert all(s == 0 for s in spins.values()), spins
+    assert _detect(run, cell) == []  # a fourth obstacle: no sensor is watched any more
+    world.advance(30.0)
+    assert all(_spin(world, m) == 0 for m in wheels)
+    assert world.roles_by_name() == structure.expected_roles
+    assert all(abs(world.hals[m].joint_angle_deg()) <= 0.5 for m in axles)
+    assert {m: _stops(run, m) for m in wheels} == dict.fromkeys(wheels, 3)
+    assert run.errors() == {}
+
+
+def test_packet_loss_still_counts_to_three() -> None:
+    run = start("car7", seed=4, loss=0.1, path=PROGRAM)
+    wheels = [m for m, r in run.structure.expected_roles.items() if r in WATCHED_SENSOR]
+    _, cell = front_wheel(run.structure)
+    for _ in range(3):
+        _detect(run, cell)
+    assert {m: _stops(run, m) for m in wheels} == dict.fromkeys(wheels, 3)
+    assert all(_spin(run.world, m) == 0 for m in wheels)
