@@ -7,6 +7,10 @@ from __future__ import annotations
 
 import pytest
 
+from sim.config import load_config
+from sim.obstacles import Box
+from sim.run import inject_program, role_table
+from sim.world import PhysicsWorld
 from tests.integration.lattice_harness import (
     CARS,
     ROOT,
@@ -78,3 +82,44 @@ def test_packet_loss_still_counts_to_three() -> None:
         _detect(run, cell)
     assert {m: _stops(run, m) for m in wheels} == dict.fromkeys(wheels, 3)
     assert all(_spin(run.world, m) == 0 for m in wheels)
+
+
+def _arena(half: float) -> list[Box]:
+    """Four walls around the start, ``half`` metres from it: the car keeps meeting one."""
+    side = 2 * half + 0.1
+    return [Box(0.0, half, side, 0.05, "wall"), Box(0.0, -half, side, 0.05, "wall"),
+            Box(half, 0.0, 0.05, side, "wall"), Box(-half, 0.0, 0.05, side, "wall")]
+
+
+@pytest.mark.slow
+def test_the_car_stops_for_good_in_an_arena_of_walls() -> None:
+    """The physics world: car7 inside four walls meets a wall three times (about 18 s, 62 s and
+    110 s in), and after the third stays where it is with every wheel's joint stopped."""
+    program = compiled("default", PROGRAM)
+    structure = load_config("car7")
+    world = PhysicsWorld(structure, obstacles=_arena(1.2), seed=0)
+    try:
+        runtimes = world.add_runtimes(role_table(program), seed=0)
+        inject_program(program, runtimes[structure.entry].inject)
+        index = next(s.index for s in program.states if s.name == "stops")
+        wheels = [m for m, r in structure.expected_roles.items() if r in WATCHED_SENSOR]
+        stopped_at = None
+        while world.time < 170.0 and stopped_at is None:
+            world.advance(1.0)
+            if all(runtimes[m].state[index] == 3 for m in wheels):
+                stopped_at = world.time
+        assert stopped_at is not None, {m: runtimes[m].state[index] for m in wheels}
+        world.advance(5.0)  # the last commands are carried out
+        still = world.centre()
+        world.advance(30.0)
+        x, y = world.centre()
+        assert abs(x - still[0]) + abs(y - still[1]) < 0.01, (still, (x, y))
+        assert all(world.joints[m].velocity == 0 and world.joints[m].target is None for m in wheels)
+        names = role_table(program).name
+        for m in wheels:  # reversed after the first two detections only
+            history = [names(r) for _, r in runtimes[m].role_history]
+            assert sum(name.startswith("Reverse") for name in history) == 2, (m, history)
+            assert runtimes[m].state[index] == 3
+        assert not any(r.errors for r in runtimes.values())
+    finally:
+        world.close()
