@@ -84,6 +84,27 @@ def test_packet_loss_still_counts_to_three() -> None:
     assert all(_spin(run.world, m) == 0 for m in wheels)
 
 
+
+def test_one_obstacle_seen_by_both_front_wheels_counts_once() -> None:
+    run = start("car7", seed=1, path=PROGRAM)
+    structure, world = run.structure, run.world
+    wheels = {m: r for m, r in structure.expected_roles.items() if r in WATCHED_SENSOR}
+    cells = set()
+    for m, role in wheels.items():
+        if structure.modules[m].position[1] > 0:
+            x, y, z = structure.modules[m].position
+            dx, dy, dz = structure.physical_direction(m, WATCHED_SENSOR[role])
+            cells.add((x + 2 * dx, y + 2 * dy, z + 2 * dz))
+    assert len(cells) == 2
+    since = len(world.events)
+    world.set_obstacles(frozenset(cells))
+    world.advance(0.5)
+    world.set_obstacles(frozenset())
+    world.advance(BACK_S)
+    assert len(_handlers(world, since)) == 2  # both front wheels fired ...
+    assert {m: _stops(run, m) for m in wheels} == dict.fromkeys(wheels, 1)  # ... one detection
+
+
 def _arena(half: float) -> list[Box]:
     """Four walls around the start, ``half`` metres from it: the car keeps meeting one."""
     side = 2 * half + 0.1
