@@ -12,7 +12,8 @@ from rdcd_core.frontend import CheckResult, check_text
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 # examples that use state: they need the default target's extension instructions (tests/state)
-STATE_EXAMPLES = frozenset({"gradient.rdcd", "count.rdcd", "lowest.rdcd", "hops.rdcd"})
+STATE_EXAMPLES = frozenset({"gradient.rdcd", "count.rdcd", "lowest.rdcd", "hops.rdcd", "obstacle_memory.rdcd",
+                            "snake_gait.rdcd"})
 
 
 def firmware_examples() -> list[Path]:
