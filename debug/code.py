@@ -115,16 +115,18 @@ class CodeIndex:
         return next((m for m in self.methods if m.role == role and m.name == name), None)
 
     def method_locations(self, method: Method) -> list[tuple[int, int]]:
-        """Where a run of ``method`` begins: the first statement of its lines in each fragment and
-        the bodies (handlers, commands) written in it."""
+        """Where a run of ``method`` begins: in each fragment, the bodies (handlers, commands)
+        written in its lines, or else the first statement of its lines."""
         first, last = method.lines
         out = []
         for i in range(len(self.fragments)):
             inside = sorted(o for o in self.statements[i] if first <= self.line(i, o) <= last)
             if not inside:
                 continue
-            out.append((i, inside[0]))
-            out += [(i, o) for o in inside[1:] if o in self.body_starts[i]]
+            bodies = [(i, o) for o in inside if o in self.body_starts[i]]
+            # a command or handler written in the method runs as its own body: its start, not the
+            # instruction that installs it, is where the method begins to run
+            out += bodies or [(i, inside[0])]
         return out
 
     # ---- addresses -------------------------------------------------------------------------

@@ -299,7 +299,8 @@ class Engine:
                 self._goal = None
                 self._update_special()
                 module = runtime.module_id if runtime is not None else None
-                self._stop(Stop(goal.reason, self.count, self._time(), module, frame, code, pc))
+                hits = self._hit_ids(runtime, frame) if goal.reason == "breakpoint" else []
+                self._stop(Stop(goal.reason, self.count, self._time(), module, frame, code, pc, hits))
             return True
         return False
 
@@ -319,6 +320,24 @@ class Engine:
         elif self._collision():
             self._stop(Stop("exception", self.count, self._time(), runtime.module_id, frame,
                             text="a collision with the obstacle"))
+
+    def _hit_ids(self, runtime: Any, frame: Frame | None) -> list[int]:
+        """The breakpoints (not log points) at this moment whose role and condition hold."""
+        if runtime is None or frame is None:
+            return []
+        table = self._tables.get(frame.code)
+        if table is None:
+            table = self._table_for(frame.code)
+        out = []
+        for bp in table.get(frame.pc, ()):
+            if bp.log is not None or (bp.role is not None and not runtime.roles.is_instance(runtime.role, bp.role)):
+                continue
+            try:
+                if bp.condition is None or bp.condition.evaluate(self.names(runtime, frame, self.run)):
+                    out.append(bp.id)
+            except ExprError:
+                continue
+        return out
 
     def _step_done(self, step: Step, runtime: Any, frame: Frame) -> bool:
         if runtime.module_id != step.module:
