@@ -57,8 +57,8 @@ def _listen(host: str, port: int) -> int:
     from debug.session import Session
 
     if host not in ("127.0.0.1", "localhost", "::1"):
-        print(f"rdcd dap: warning: listening on {host}: anyone who can reach this port can run simulations "
-              "and read the launched program", file=sys.stderr)
+        print(f"rdcd dap: warning: --host {host} accepts other machines: anyone who can reach this "
+              "port can run simulations and read the launched program", file=sys.stderr)
     try:
         server = socket.create_server((host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET)
     except OSError as e:

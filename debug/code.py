@@ -97,7 +97,7 @@ class CodeIndex:
     def line_locations(self, line: int) -> list[tuple[int, int]]:
         """The statement starts on ``line``: where a breakpoint on it stops."""
         out = []
-        for i, fragment in enumerate(self.fragments):
+        for i in range(len(self.fragments)):
             for offset in sorted(self.statements[i]):
                 if self.line(i, offset) == line:
                     out.append((i, offset))

@@ -330,7 +330,8 @@ class Engine:
             table = self._table_for(frame.code)
         out = []
         for bp in table.get(frame.pc, ()):
-            if bp.log is not None or (bp.role is not None and not runtime.roles.is_instance(runtime.role, bp.role)):
+            if bp.log is not None or (bp.role is not None
+                                      and not runtime.roles.is_instance(runtime.role, bp.role)):
                 continue
             try:
                 if bp.condition is None or bp.condition.evaluate(self.names(runtime, frame, self.run)):
@@ -397,7 +398,8 @@ class Engine:
             hit.append(bp)
         if not hit:
             return False
-        reason = "function breakpoint" if all(bp.kind == "function breakpoint" for bp in hit) else "breakpoint"
+        functions = all(bp.kind == "function breakpoint" for bp in hit)
+        reason = "function breakpoint" if functions else "breakpoint"
         self._stop(Stop(reason, self.count, self._time(), runtime.module_id, frame,
                         hit_ids=[bp.id for bp in hit]))
         return True
@@ -423,8 +425,9 @@ class Engine:
         return self.run.time if self.run is not None else 0.0
 
     def _update_special(self) -> None:
-        self._special = bool(self._goal or self._scan or self._step or self._pause or COLLISION in self.filters
-                             or (self._command is not None and self._command[0] == "abort"))
+        aborting = self._command is not None and self._command[0] == "abort"
+        self._special = bool(self._goal or self._scan or self._step or self._pause
+                             or COLLISION in self.filters or aborting)
 
 
 def _hit_ok(condition: tuple[str, int], hits: int) -> bool:

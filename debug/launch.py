@@ -110,7 +110,8 @@ def _compile(path: str, text: str, target: str) -> tuple[CompiledProgram, list]:
         shown = []
         for d in errors:
             line, column, _, _ = _positions(result, d)
-            shown.append({"text": render_text(path, result, d), "line": line, "column": column})
+            shown.append({"text": render_text(path, result, d), "line": line, "column": column,
+                          "path": os.path.abspath(path)})
         first = shown[0]["text"].splitlines()[0] if shown else "it could not be compiled"
         raise LaunchError(f"{path}: {len(errors) or 1} error(s) in the program, nothing runs: {first}", shown)
     methods = []

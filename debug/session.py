@@ -63,8 +63,12 @@ class Session(Sink):
         command = message.get("command")
         if message.get("type") != "request" or not isinstance(command, str) \
                 or not isinstance(message.get("seq"), int):
-            self.channel.fail(message, "not a request: a request has type \"request\", an integer seq "
-                                       "and a command")
+            seq = message.get("seq")
+            if isinstance(seq, int) and not isinstance(seq, bool) and seq >= 1 and isinstance(command, str):
+                self.channel.fail(message, "not a request: a request has type \"request\"")
+            else:  # nothing to answer to: said on the console
+                self.output("rdcd dap: ignored a message that is not a request (a request has type "
+                            "\"request\", an integer seq and a command)\n", "stderr")
             return
         args = message.get("arguments", {})
         if args is None:
@@ -83,7 +87,9 @@ class Session(Sink):
             return
         except LaunchError as e:
             for d in e.diagnostics:
-                self._console(d["text"], "stderr", d["line"], d["column"])
+                self.channel.event("output", {"category": "stderr", "output": d["text"], "line": d["line"],
+                                              "column": d["column"], "source": {
+                                                  "name": os.path.basename(d["path"]), "path": d["path"]}})
             self.channel.fail(message, str(e))
             return
         except Exception as e:  # a bug: answered, not a dead adapter
@@ -99,7 +105,7 @@ class Session(Sink):
         what = {"entry": "at the start", "step": "after a step", "pause": "paused",
                 "exception": stop.text or "exception"}.get(stop.reason, stop.reason)
         body: dict[str, Any] = {"reason": stop.reason, "description": f"{what} at t = {stop.time:.3f} s",
-                                "threadId": (stop.module + 1) if stop.module is not None else self._first_thread(),
+                                "threadId": self._first_thread() if stop.module is None else stop.module + 1,
                                 "allThreadsStopped": True, "preserveFocusHint": False}
         if stop.hit_ids:
             body["hitBreakpointIds"] = list(stop.hit_ids)
@@ -265,7 +271,8 @@ class Session(Sink):
         for task in runtime.store.tasks:
             if task.frame is frame and task.slot is not None:
                 if task.slot.kind == "handler":
-                    events = [k for k, v in enumerate(runtime.store.vectors) if v is not None and v.slot is task.slot]
+                    events = [k for k, v in enumerate(runtime.store.vectors)
+                              if v is not None and v.slot is task.slot]
                     kind = f"handler of event {events[0]}" if events else "handler"
                 elif task.slot.kind == "command":
                     kind = f"command {task.command}"
@@ -330,7 +337,8 @@ class Session(Sink):
         if isinstance(ref, bool) or not isinstance(ref, int) or ref not in self._refs:
             raise RequestError(f"variables: there is no variables reference {ref!r}")
         content = self._refs[ref]
-        items = list(content.items()) if isinstance(content, dict) else [(f"[{i}]", v) for i, v in enumerate(content)]
+        items = (list(content.items()) if isinstance(content, dict)
+                 else [(f"[{i}]", v) for i, v in enumerate(content)])
         start, count = args.get("start", 0), args.get("count", 0)
         start = start if isinstance(start, int) and start >= 0 else 0
         items = items[start:start + count] if isinstance(count, int) and count > 0 else items[start:]
@@ -474,14 +482,16 @@ class Session(Sink):
             if not isinstance(spec, dict) or isinstance(spec.get("line"), bool) \
                     or not isinstance(spec.get("line"), int):
                 self._next_bp += 1
-                out.append({"id": self._next_bp, "verified": False, "message": "a breakpoint needs a line number"})
+                out.append({"id": self._next_bp, "verified": False,
+                            "message": "a breakpoint needs a line number"})
                 continue
             line = spec["line"]
             try:
                 bp = self._new_bp(spec, "breakpoint")
             except ExprError as e:
                 self._next_bp += 1
-                out.append({"id": self._next_bp, "verified": False, "line": line, "message": f"condition: {e}"})
+                out.append({"id": self._next_bp, "verified": False, "line": line,
+                            "message": f"condition: {e}"})
                 continue
             answer: dict[str, Any] = {"id": bp.id, "verified": False, "line": line}
             if self.launch is None or self.code is None:

@@ -111,8 +111,8 @@ class Client:
                 body, buffer = buffer[:length], buffer[length:]
                 message = json.loads(body)
                 self.messages.append(message)
-                self.problems += [f"{message.get('type')} {message.get('command') or message.get('event')}: {p}"
-                                  for p in schema_problems(message)]
+                label = self._label(message)
+                self.problems += [f"{label}: {p}" for p in schema_problems(message)]
                 self._queue.put(message)
         except (OSError, ValueError) as e:
             self.problems.append(f"unreadable output: {e}")
@@ -123,8 +123,8 @@ class Client:
         try:
             message = self._queue.get(timeout=timeout)
         except queue.Empty:
-            raise DapError(f"no message in {timeout} s; seen: {[self._label(m) for m in self.messages[-10:]]}") \
-                from None
+            seen = [self._label(m) for m in self.messages[-10:]]
+            raise DapError(f"no message in {timeout} s; seen: {seen}") from None
         if message is None:
             self._queue.put(None)
             raise DapError("the adapter closed its output")
@@ -192,7 +192,8 @@ class Client:
             self.bp_response = self.request("setBreakpoints", {"source": {"path": str(program)},
                                                                "breakpoints": breakpoints})
         if function_breakpoints is not None:
-            self.request("setFunctionBreakpoints", {"breakpoints": [{"name": n} for n in function_breakpoints]})
+            self.request("setFunctionBreakpoints",
+                         {"breakpoints": [{"name": n} for n in function_breakpoints]})
         self.request("setExceptionBreakpoints", {"filters": filters or []})
         self.request("configurationDone")
         return launched

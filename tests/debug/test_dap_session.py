@@ -31,7 +31,8 @@ def top_frame(dap: Client, thread: int) -> dict[str, Any]:
 def scope(dap: Client, frame_id: int, name: str) -> dict[str, str]:
     scopes = dap.request("scopes", {"frameId": frame_id})["body"]["scopes"]
     ref = next(s["variablesReference"] for s in scopes if s["name"] == name)
-    return {v["name"]: v["value"] for v in dap.request("variables", {"variablesReference": ref})["body"]["variables"]}
+    variables = dap.request("variables", {"variablesReference": ref})["body"]["variables"]
+    return {v["name"]: v["value"] for v in variables}
 
 
 def tree(dap: Client, ref: int) -> Any:
@@ -115,8 +116,8 @@ def test_a_role_condition_and_a_hit_count(dap: Client) -> None:
 
 
 def test_log_points_print_and_do_not_stop(dap: Client) -> None:
-    dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE, "logMessage": "module {module} is {role} at {time}"}],
-               **LATTICE)
+    message = "module {module} is {role} at {time}"
+    dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE, "logMessage": message}], **LATTICE)
     assert dap.stopped()["event"] == "terminated"
     logged = [e["body"] for e in dap.events("output") if "is LeftWheel" in e["body"]["output"]
               or "is RightWheel" in e["body"]["output"]]
