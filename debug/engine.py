@@ -15,6 +15,7 @@ the adapter's thread reads it freely (nothing else touches it).
 
 from __future__ import annotations
 
+import copy
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,12 +24,14 @@ from typing import Any
 from debug.code import CodeIndex
 from debug.expr import Expr, ExprError
 from rdcd_core.compiler.program import CompiledProgram
+from sim.params import JOINT_MAX_TORQUE
 from sim.run import Options, Run
 from vm.interpreter import Frame
 from vm.lattice.structure import Structure
 from vm.observer import RuntimeObserver
 
 RUNTIME, PACKET, COLLISION = "runtime", "packet", "collision"
+CHECKPOINT_S = 2.0  # simulated seconds between two checkpoints: going back runs at most this far
 EXCEPTION_FILTERS = {
     RUNTIME: "Runtime errors (unknown instruction, store or queue full, stack overflow...)",
     PACKET: "Lost packets",
@@ -75,6 +78,15 @@ class Step:
     instruction: bool
     frame: Frame | None
     line: int
+
+
+@dataclass
+class Checkpoint:
+    count: int  # the boundary moment it was taken at
+    time: float
+    collided: bool
+    run: Run  # a copy, never run itself: restoring copies it again
+    state: int | None  # PyBullet's saved state (physics world)
 
 
 @dataclass
@@ -133,6 +145,9 @@ class Engine:
         self._pause = False
         self._collided = False
         self._special = False  # any of the above: the per-instruction fast path is left
+        self._observer = _Observer(self)
+        self._base: Run | None = None
+        self._checkpoints: list[Checkpoint] = []
 
     # ---- the adapter's side ----------------------------------------------------------------
     def start(self, stop_on_entry: bool) -> None:
@@ -157,6 +172,9 @@ class Engine:
 
     def terminate(self) -> None:
         self._end_thread()
+        if self._base is not None:
+            self._base.close()  # the PyBullet client every copy shares
+            self._checkpoints.clear()
 
     @property
     def running(self) -> bool:
@@ -216,19 +234,62 @@ class Engine:
             self._command = command
             self._cv.notify_all()
 
-    def _new_run(self) -> Run:
+    def _first_run(self) -> Run:
+        """The one run built from nothing; every later one is a copy of one of its checkpoints
+        (in the physics world they all share its PyBullet client, closed by ``terminate``)."""
         run = Run(self.program, self.structure, self.options)
-        observer = _Observer(self)
+        self._base = run
         for runtime in run.runtimes.values():
-            runtime.observer = observer
+            runtime.observer = self._observer
         run.world.network.on_send = self.on_send
+        self.count, self._collided = 0, False
+        self._checkpoint(run, force=True)
+        return run
+
+    def _checkpoint(self, run: Run, force: bool = False) -> None:
+        """Keep a copy of the run at this boundary, every ``CHECKPOINT_S`` simulated seconds."""
+        last = self._checkpoints[-1] if self._checkpoints else None
+        if not force and (last is None or self.count <= last.count or run.time < last.time + CHECKPOINT_S):
+            return
+        state = None
+        if self.options.world != "lattice":
+            import pybullet as pb
+
+            state = pb.saveState(physicsClientId=run.world.client)
+        copied = copy.deepcopy(run, self._memo())
+        self._checkpoints.append(Checkpoint(self.count, run.time, self._collided, copied, state))
+
+    def _memo(self) -> dict[int, Any]:
+        """What a copy of a run shares with the original: the program, the engine, the observer."""
+        keep = (self, self._observer, self.program, self.structure, self.options, self.sink)
+        return {id(k): k for k in keep}
+
+    def _restore(self, before: int) -> Run:
+        """A copy of the last checkpoint at or before moment ``before``, ready to go on."""
+        cp = max((c for c in self._checkpoints if c.count <= before), key=lambda c: c.count)
+        run = copy.deepcopy(cp.run, self._memo())
+        run.hook_events()
+        if cp.state is not None:
+            import pybullet as pb
+
+            client = run.world.client
+            pb.restoreState(stateId=cp.state, physicsClientId=client)
+            for joint in run.world.joints.values():  # the motors are not part of a saved state
+                pb.setJointMotorControl2(joint.body, joint.joint, pb.VELOCITY_CONTROL,
+                                         targetVelocity=joint._command, force=JOINT_MAX_TORQUE,  # noqa: SLF001
+                                         physicsClientId=client)
+        self.count, self._collided = cp.count, cp.collided
         return run
 
     def _main(self, goal: Goal | None, scan: Scan | None) -> None:
         try:
-            if scan is not None:
-                goal = Goal(self._find(scan), goal.reason if goal else "step")
-            self._run_from_start(goal)
+            if self._base is None:
+                run = self.run = self._first_run()
+            else:
+                if scan is not None:
+                    goal = Goal(self._find(scan), goal.reason if goal else "step")
+                run = self.run = self._restore(goal.count if goal is not None else 0)
+            self._forward(run, goal)
         except Aborted:
             pass
         except Exception as e:  # a bug of the world or the adapter: said, not a silent hang
@@ -236,39 +297,39 @@ class Engine:
             self.sink.failed(f"the simulation failed: {type(e).__name__}: {e}")
 
     def _find(self, scan: Scan) -> int:
-        """The last moment before ``scan.until`` that ``scan.wanted`` accepts (0: the start)."""
-        self._scan, self.count = scan, 0
-        self._update_special()
-        run = self.run = self._new_run()
-        try:
-            while True:
-                self._boundary(run)
-                if not run.advance_chunk():
-                    break
-        except _ScanDone:
-            pass
-        finally:
-            run.close()
-            self._scan = None
+        """The last moment before ``scan.until`` that ``scan.wanted`` accepts (0: the start),
+        searched from the checkpoint before it, then from earlier ones."""
+        until = scan.until
+        for cp in sorted((c for c in self._checkpoints if c.count < until), key=lambda c: -c.count):
+            scan.until, scan.last = until, 0
+            self._scan = scan
             self._update_special()
-        return scan.last
+            run = self.run = self._restore(cp.count)
+            try:
+                while run.advance_chunk():
+                    self._boundary(run)
+            except _ScanDone:
+                pass
+            finally:
+                self._scan = None
+                self._update_special()
+            if scan.last:
+                return scan.last
+            until = cp.count
+        return 0
 
-    def _run_from_start(self, goal: Goal | None) -> None:
-        self.count, self._collided, self.stop = 0, False, None
-        self._goal = goal if goal is not None and goal.count > 0 else None
+    def _forward(self, run: Run, goal: Goal | None) -> None:
+        """Run on from the moment ``run`` is at (a boundary); stop at ``goal`` on the way."""
+        self.stop = None
+        self._goal = goal if goal is not None and goal.count > self.count else None
         self._update_special()
-        run = self.run = self._new_run()
-        try:
-            if goal is not None and goal.count == 0:
-                self._stop(Stop(goal.reason, 0, 0.0))
-            while True:
-                self._boundary(run)
-                if not run.advance_chunk():
-                    break
-            self.ended = True
-            self.sink.ended(run)
-        finally:
-            run.close()
+        if goal is not None and goal.count == self.count:
+            self._stop(Stop(goal.reason, self.count, run.time))
+        while run.advance_chunk():
+            self._boundary(run)
+            self._checkpoint(run)
+        self.ended = True
+        self.sink.ended(run)
 
     def _boundary(self, run: Run) -> None:
         """A moment between two pieces of the run (no module is running)."""

@@ -177,20 +177,30 @@ class Run:
         if self.options.world != "lattice" and self.world is not None:
             self.world.close()
 
+    def hook_events(self) -> None:
+        """Record the story of the run (for the report) from this run's world into ``events``;
+        again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
+        world, events = self.world, self.events
+        if self.options.world == "lattice":
+            for mid, runtime in world.runtimes.items():
+                runtime.on_event = _recorder(events, world.now, mid)
+            return
+        for mid, runtime in world.runtimes.items():
+            runtime.on_event = _recorder(events, lambda: world.time, mid)
+        world.on_detection = lambda mid, k: events.append(
+            {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
+
     # ---- building --------------------------------------------------------------------------
     def _build_physics(self) -> None:
         from sim.world import PhysicsWorld
 
-        options, structure, events = self.options, self.structure, self.events
+        options, structure = self.options, self.structure
         world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
                              packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record))
         self.world = world
         try:
             runtimes = world.add_runtimes(self.roles, options.seed, TARGETS[options.vm])
-            for mid, runtime in runtimes.items():
-                runtime.on_event = _recorder(events, lambda: world.time, mid)
-            world.on_detection = lambda mid, k: events.append(
-                {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
+            self.hook_events()
             self._advance = world.advance
             if options.recording is not None:
                 options.recording.attach_physics(world, runtimes)
@@ -213,8 +223,7 @@ class Run:
                              joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
                              obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm])
         self.world = world
-        for mid, runtime in world.runtimes.items():
-            runtime.on_event = _recorder(self.events, world.now, mid)
+        self.hook_events()
         self._advance = world.advance
         if options.recording is not None:
             options.recording.attach_lattice(world)

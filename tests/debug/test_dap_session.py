@@ -240,3 +240,22 @@ def test_a_run_without_breakpoints_is_the_simulate_run(dap: Client, tmp_path: Pa
     significant = [line for line in out.splitlines() if line.strip() and "wall" not in line.lower()
                    and "real time" not in line and "real-time" not in line]
     assert significant and all(line in summary for line in significant[:6])
+
+
+def test_the_physics_world_handler_and_going_back_through_a_checkpoint(dap: Client) -> None:
+    dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE}], world="physics", obstacle="wall:0.3", duration=6)
+    stop = run_to_handler(dap)
+    thread = stop["body"]["threadId"]
+    assert float(stop["body"]["description"].split("t = ")[1].split()[0]) > 2.0  # past the first checkpoint
+    frame = top_frame(dap, thread)
+    assert scope(dap, frame["id"], "Module")["role"] in ("LeftWheel", "RightWheel")
+    dap.request("setBreakpoints", {"source": {"path": str(OBSTACLE)}, "breakpoints": []})
+    here = (stop["body"]["description"], world_state(dap))
+    dap.request("next", {"threadId": thread, "granularity": "instruction"})
+    ahead = (dap.stopped()["body"]["description"], world_state(dap))
+    dap.request("stepBack", {"threadId": thread, "granularity": "instruction"})
+    back = dap.stopped()
+    assert back["body"]["description"].split(" at ")[1] == here[0].split(" at ")[1]
+    assert world_state(dap) == here[1]
+    dap.request("next", {"threadId": thread, "granularity": "instruction"})
+    assert (dap.stopped()["body"]["description"], world_state(dap)) == ahead
