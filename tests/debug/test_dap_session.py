@@ -243,7 +243,8 @@ def test_a_run_without_breakpoints_is_the_simulate_run(dap: Client, tmp_path: Pa
 
 
 def test_the_physics_world_handler_and_going_back_through_a_checkpoint(dap: Client) -> None:
-    dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE}], world="physics", obstacle="wall:0.3", duration=6)
+    dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE}], world="physics", obstacle="wall:0.3",
+               duration=6)
     stop = run_to_handler(dap)
     thread = stop["body"]["threadId"]
     assert float(stop["body"]["description"].split("t = ")[1].split()[0]) > 2.0  # past the first checkpoint

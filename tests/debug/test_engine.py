@@ -42,7 +42,8 @@ def full_state(engine: Engine, inspector: Inspector) -> Any:
     assert run is not None
     state: dict[str, Any] = {"time": run.time, "count": engine.count}
     for mid, runtime in run.runtimes.items():
-        state[mid] = (inspector.full_state(runtime, run), runtime.hal.joint_angle_deg(), runtime.hal.joint_turns())
+        hal = runtime.hal
+        state[mid] = (inspector.full_state(runtime, run), hal.joint_angle_deg(), hal.joint_turns())
     if hasattr(run.world, "module_centres"):
         state["centres"] = {mid: tuple(c) for mid, c in run.world.module_centres().items()}
     return state
