@@ -17,6 +17,10 @@ from __future__ import annotations
 
 import copy
 import threading
+import time
+from array import array
+from bisect import bisect_left, bisect_right
+from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -31,7 +35,8 @@ from vm.lattice.structure import Structure
 from vm.observer import RuntimeObserver
 
 RUNTIME, PACKET, COLLISION = "runtime", "packet", "collision"
-CHECKPOINT_S = 2.0  # simulated seconds between two checkpoints: going back runs at most this far
+CHECKPOINT_WALL_S = 0.2  # wall seconds of running between two checkpoints (at least)
+COPY_SHARE = 40  # ... and at least this many times what the last checkpoint's copy took
 EXCEPTION_FILTERS = {
     RUNTIME: "Runtime errors (unknown instruction, store or queue full, stack overflow...)",
     PACKET: "Lost packets",
@@ -145,6 +150,11 @@ class Engine:
         self._pause = False
         self._collided = False
         self._special = False  # any of the above: the per-instruction fast path is left
+        self._trail: defaultdict[int, array[int]] = defaultdict(lambda: array("q"))
+        self._statement_trail: defaultdict[int, array[int]] = defaultdict(lambda: array("q"))
+        self._statement_pcs: dict[bytes, frozenset[int]] = {}
+        self._last_checkpoint_wall = 0.0
+        self._copy_cost = 0.0
         self._observer = _Observer(self)
         self._base: Run | None = None
         self._checkpoints: list[Checkpoint] = []
@@ -181,8 +191,26 @@ class Engine:
         return self.stop is None and not self.ended
 
     # ---- the world's side ------------------------------------------------------------------
+    def previous(self, module: int, before: int, statement: bool) -> int:
+        """The last moment before ``before`` when ``module`` was about to execute an instruction
+        (``statement``: the first of a statement); 0 (the start) if there is none."""
+        trail = (self._statement_trail if statement else self._trail).get(module)
+        if not trail:
+            return 0
+        i = bisect_left(trail, before)
+        return trail[i - 1] if i > 0 else 0
+
     def on_instruction(self, runtime: Any, frame: Frame) -> None:
         self.count += 1
+        # the trail of every module, for going back one step without searching
+        mid = runtime.module_id
+        self._trail[mid].append(self.count)
+        statements = self._statement_pcs.get(frame.code)
+        if statements is None:
+            statements = self._statement_pcs[frame.code] = frozenset(
+                pc for pc in range(len(frame.code)) if self.code.is_statement(frame.code, pc))
+        if frame.pc in statements:
+            self._statement_trail[mid].append(self.count)
         if self._special:
             self._slow_instruction(runtime, frame)
             return
@@ -247,27 +275,48 @@ class Engine:
         return run
 
     def _checkpoint(self, run: Run, force: bool = False) -> None:
-        """Keep a copy of the run at this boundary, every ``CHECKPOINT_S`` simulated seconds."""
+        """Keep a copy of the run at this boundary (now and then: see ``CHECKPOINT_WALL_S``)."""
         last = self._checkpoints[-1] if self._checkpoints else None
-        if not force and (last is None or self.count <= last.count or run.time < last.time + CHECKPOINT_S):
-            return
+        now = time.perf_counter()
+        if not force:
+            # often enough that going back re-runs little, rarely enough that a run with the
+            # debugger attached is hardly slower: the copies take at most 1/COPY_SHARE of the time
+            wall = max(CHECKPOINT_WALL_S, COPY_SHARE * self._copy_cost)
+            if last is None or self.count <= last.count or now - self._last_checkpoint_wall < wall:
+                return
         state = None
         if self.options.world != "lattice":
             import pybullet as pb
 
             state = pb.saveState(physicsClientId=run.world.client)
-        copied = copy.deepcopy(run, self._memo())
+        copied = copy.deepcopy(run, self._memo(run))
         self._checkpoints.append(Checkpoint(self.count, run.time, self._collided, copied, state))
+        self._last_checkpoint_wall = time.perf_counter()
+        self._copy_cost = self._last_checkpoint_wall - now
 
-    def _memo(self) -> dict[int, Any]:
-        """What a copy of a run shares with the original: the program, the engine, the observer."""
+    def _memo(self, run: Run) -> dict[int, Any]:
+        """What a copy of a run shares with the original: the program, the engine, the observer;
+        and the run's histories, which only ever grow by new items: copied one level deep (a new
+        list of the same items), not item by item (most of a deep copy's time, and growing)."""
         keep = (self, self._observer, self.program, self.structure, self.options, self.sink)
-        return {id(k): k for k in keep}
+        memo: dict[int, Any] = {id(k): k for k in keep}
+        world = run.world
+        histories = [run.events, getattr(world, "events", None)]
+        tracking = getattr(world, "tracking", None)
+        if tracking is not None:
+            histories += [tracking.trajectory, tracking.detections]
+        for runtime in run.runtimes.values():
+            histories += [runtime.event_log, runtime.errors, runtime.role_history, runtime.run_errors]
+        for history in histories:
+            if history is not None:
+                memo[id(history)] = list(history)
+        memo[id(memo)] = [*keep, *histories]  # deepcopy's keep-alive list: the ids stay valid
+        return memo
 
     def _restore(self, before: int) -> Run:
         """A copy of the last checkpoint at or before moment ``before``, ready to go on."""
         cp = max((c for c in self._checkpoints if c.count <= before), key=lambda c: c.count)
-        run = copy.deepcopy(cp.run, self._memo())
+        run = copy.deepcopy(cp.run, self._memo(cp.run))
         run.hook_events()
         if cp.state is not None:
             import pybullet as pb
@@ -279,6 +328,10 @@ class Engine:
                                          targetVelocity=joint._command, force=JOINT_MAX_TORQUE,  # noqa: SLF001
                                          physicsClientId=client)
         self.count, self._collided = cp.count, cp.collided
+        for trails in (self._trail, self._statement_trail):
+            for trail in trails.values():
+                del trail[bisect_right(trail, cp.count):]
+        self._last_checkpoint_wall = time.perf_counter()
         return run
 
     def _main(self, goal: Goal | None, scan: Scan | None) -> None:

@@ -71,6 +71,12 @@ def names(runtime: Any, frame: Frame | None, run: Any) -> dict[str, Any]:
 
 
 def _sensor(runtime: Any, k: int) -> bool | None:
+    """What sensor ``k`` sees; None for a physics sensor that nothing reads, which the world does
+    not sample (asking the hal would start sampling it: a change to the world)."""
+    sensors = getattr(getattr(runtime.hal, "world", None), "sensors", None)
+    if sensors is not None and hasattr(sensors, "watched"):
+        key = (runtime.module_id, k)
+        return sensors.values.get(key, False) if key in sensors.watched else None
     try:
         return bool(runtime.hal.proximity(k))
     except (IndexError, KeyError, ValueError, AttributeError):

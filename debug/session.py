@@ -420,11 +420,10 @@ class Session(Sink):
         mid, code = runtime.module_id, self.code
         assert code is not None
         instruction = args.get("granularity") == "instruction"
-
-        def wanted(kind: str, rt: Any, frame: Any) -> bool:
-            return kind == "instruction" and rt.module_id == mid and (
-                instruction or code.is_statement(frame.code, frame.pc))
-        self._back(Scan(stop.count, wanted), "step")
+        target = self.engine.previous(mid, stop.count, statement=not instruction)  # type: ignore[union-attr]
+        self._frames.clear()
+        self._refs.clear()
+        self.engine.go_back(None, Goal(target, "step" if target else "entry"))  # type: ignore[union-attr]
 
     def on_reverseContinue(self, args: dict[str, Any]) -> None:  # noqa: N802
         stop = self._stopped("reverseContinue")
