@@ -168,7 +168,11 @@ class Engine:
         self._tables = {}  # built again, per running code, on the world's thread
 
     def resume(self, kind: str = "continue", step: Step | None = None) -> None:
-        self._give(("resume", step))
+        with self._cv:
+            if self.stop is None:
+                return  # already running (two requests in a row): nothing to give
+            self._command = ("resume", step)
+            self._cv.notify_all()
 
     def pause(self) -> None:
         self._pause = True
@@ -522,13 +526,17 @@ class Engine:
         self._step = None
         self._pause = False
         self._update_special()
-        self.stop = stop
+        with self._cv:
+            if self._command is not None and self._command[0] == "abort":
+                raise Aborted
+            self._command = None
+            self.stop = stop
         self.sink.stopped(stop)
         with self._cv:
             while self._command is None:
                 self._cv.wait()
             command, self._command = self._command, None
-        self.stop = None
+            self.stop = None
         if command[0] == "abort":
             self._command = command  # every later moment of this run ends it too
             raise Aborted
