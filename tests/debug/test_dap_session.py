@@ -273,3 +273,15 @@ def test_the_physics_world_handler_and_going_back_through_a_checkpoint(dap: Clie
     assert world_state(dap) == here[1]
     dap.request("next", {"threadId": thread, "granularity": "instruction"})
     assert (dap.stopped()["body"]["description"], world_state(dap)) == ahead
+
+
+def test_an_exception_breakpoint_on_a_lost_packet(dap: Client) -> None:
+    dap.launch(OBSTACLE, filters=["packet"], world="lattice", packetLoss=0.3, obstacle="none", duration=5)
+    stop = dap.stopped()
+    assert stop["event"] == "stopped" and stop["body"]["reason"] == "exception"
+    assert "was lost" in stop["body"]["text"]
+    sender = stop["body"]["threadId"]
+    assert f"module {sender - 1}" in stop["body"]["text"]
+    dap.request("setExceptionBreakpoints", {"filters": []})
+    dap.request("continue", {"threadId": sender})
+    assert dap.stopped()["event"] == "terminated"

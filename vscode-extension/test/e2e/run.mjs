@@ -544,6 +544,7 @@ async function runChecks(page, url, workspace) {
  * to the end. */
 async function checkDebugger(page) {
   await step(page, "debug-breakpoint", async () => {
+    await runCommand(page, "View: Close All Editors");
     await openFile(page, "obstacle_avoidance.rdcd");
     await goTo(page, 13, 1);
     await runCommand(page, "Debug: Toggle Breakpoint");
