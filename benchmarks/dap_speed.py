@@ -126,22 +126,27 @@ def attached_run(repeat: int) -> None:
         def ended(self, run: object) -> None:
             self.end = time.perf_counter()
 
-    plain, attached = [], []
+    plain, attached, plain_cpu, attached_cpu = [], [], [], []
     for _ in range(repeat):
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         simulate(launch.program, launch.structure, launch.options)
         plain.append(time.perf_counter() - start)
+        plain_cpu.append(time.process_time() - cpu)
         sink = Done()
         code = CodeIndex(launch.program)
         engine = Engine(launch.program, launch.structure, launch.options, code, sink, names)
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         engine.start(stop_on_entry=False)
         engine._thread.join()  # type: ignore[union-attr]  # noqa: SLF001
         attached.append(sink.end - start)
+        attached_cpu.append(time.process_time() - cpu)
+        checkpoints = len(engine._checkpoints)  # noqa: SLF001
         engine.terminate()
     a, b = min(plain), min(attached)
+    c, d = min(plain_cpu), min(attached_cpu)
     print(f"60-s car7 physics run: simulate {a:.2f} s, debugger attached (no breakpoints) {b:.2f} s: "
-          f"{100 * (b / a - 1):+.1f} % (best of {repeat})")
+          f"{100 * (b / a - 1):+.1f} % wall; CPU {c:.2f} s vs {d:.2f} s: {100 * (d / c - 1):+.1f} % "
+          f"(best of {repeat}; {checkpoints} checkpoints)")
 
 
 def step_back(n: int) -> None:

@@ -74,8 +74,11 @@ class AdapterFactory implements vscode.DebugAdapterDescriptorFactory {
 }
 
 export function registerDebugger(log: (message: string) => void): vscode.Disposable[] {
+  const provider = new ConfigurationProvider();
   return [
-    vscode.debug.registerDebugConfigurationProvider(DEBUG_TYPE, new ConfigurationProvider()),
+    vscode.debug.registerDebugConfigurationProvider(DEBUG_TYPE, provider),
+    // also listed by "Debug: Select and Start Debugging" → RDCD Simulator
+    vscode.debug.registerDebugConfigurationProvider(DEBUG_TYPE, provider, vscode.DebugConfigurationProviderTriggerKind.Dynamic),
     vscode.debug.registerDebugAdapterDescriptorFactory(DEBUG_TYPE, new AdapterFactory(log)),
   ];
 }
