@@ -589,8 +589,12 @@ async function checkDebugger(page) {
     }, { timeout: 20000 });
     await shot(page, "debug-stopped");
     // the breakpoint off, on to the end of the run
-    await runCommand(page, "Debug: Remove All Breakpoints");
-    await runCommand(page, "Debug: Continue");
+    await page.locator(".monaco-editor textarea").first().focus();
+    await goTo(page, 13, 1);
+    await runCommand(page, "Debug: Toggle Breakpoint");
+    await until("the breakpoint gone", async () =>
+      (await page.locator(".monaco-editor .codicon-debug-breakpoint").count()) === 0, { timeout: 10000 });
+    await page.locator(".debug-toolbar .codicon-debug-continue").first().click();
     await until("the debug session to end", async () =>
       (await page.locator(".debug-toolbar").count()) === 0 || !(await page.locator(".debug-toolbar").first().isVisible()),
     { timeout: 120000 });
