@@ -36,7 +36,7 @@ from vm.observer import RuntimeObserver
 
 RUNTIME, PACKET, COLLISION = "runtime", "packet", "collision"
 CHECKPOINT_WALL_S = 0.2  # wall seconds of running between two checkpoints (at least)
-COPY_SHARE = 40  # ... and at least this many times what the last checkpoint's copy took
+COPY_SHARE = 25  # ... and at least this many times what the last checkpoint's copy took (<= 4 %)
 EXCEPTION_FILTERS = {
     RUNTIME: "Runtime errors (unknown instruction, store or queue full, stack overflow...)",
     PACKET: "Lost packets",
@@ -302,9 +302,19 @@ class Engine:
         """What a copy of a run shares with the original: the program, the engine, the observer;
         and the run's histories, which only ever grow by new items: copied one level deep (a new
         list of the same items), not item by item (most of a deep copy's time, and growing)."""
-        keep = (self, self._observer, self.program, self.structure, self.options, self.sink)
-        memo: dict[int, Any] = {id(k): k for k in keep}
         world = run.world
+        # and what the world never changes after it is built: geometry, ports, the role table
+        static = [run.roles, getattr(world, "robot", None), getattr(world, "boxes", None),
+                  getattr(world, "obstacle_ids", None), getattr(world, "_centres", None),
+                  getattr(world, "_order", None), world.network._ports]  # noqa: SLF001
+        sensors = getattr(world, "sensors", None)
+        if sensors is not None:
+            static += [sensors._rays, sensors.targets]  # noqa: SLF001
+        for hal in world.hals.values():
+            static += [getattr(hal, "_connected", None), getattr(hal, "_directions", None)]
+        keep = (self, self._observer, self.program, self.structure, self.options, self.sink,
+                *(item for item in static if item is not None))
+        memo: dict[int, Any] = {id(k): k for k in keep}
         histories = [run.events, getattr(world, "events", None)]
         tracking = getattr(world, "tracking", None)
         if tracking is not None:
