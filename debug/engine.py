@@ -35,7 +35,9 @@ from vm.lattice.structure import Structure
 from vm.observer import RuntimeObserver
 
 RUNTIME, PACKET, COLLISION = "runtime", "packet", "collision"
-CHECKPOINT_WALL_S = 0.2  # wall seconds of running between two checkpoints (at least)
+# checkpoints: measured in the world thread's CPU time, which other work on the machine does not
+# stretch (wall time would make copies more frequent on a loaded machine)
+CHECKPOINT_WALL_S = 0.2  # seconds of running between two checkpoints (at least)
 COPY_SHARE = 25  # ... and at least this many times what the last checkpoint's copy took (<= 4 %)
 EXCEPTION_FILTERS = {
     RUNTIME: "Runtime errors (unknown instruction, store or queue full, stack overflow...)",
@@ -281,7 +283,7 @@ class Engine:
     def _checkpoint(self, run: Run, force: bool = False) -> None:
         """Keep a copy of the run at this boundary (now and then: see ``CHECKPOINT_WALL_S``)."""
         last = self._checkpoints[-1] if self._checkpoints else None
-        now = time.perf_counter()
+        now = time.thread_time()
         if not force:
             # often enough that going back re-runs little, rarely enough that a run with the
             # debugger attached is hardly slower: the copies take at most 1/COPY_SHARE of the time
@@ -295,7 +297,7 @@ class Engine:
             state = pb.saveState(physicsClientId=run.world.client)
         copied = copy.deepcopy(run, self._memo(run))
         self._checkpoints.append(Checkpoint(self.count, run.time, self._collided, copied, state))
-        self._last_checkpoint_wall = time.perf_counter()
+        self._last_checkpoint_wall = time.thread_time()
         self._copy_cost = self._last_checkpoint_wall - now
 
     def _memo(self, run: Run) -> dict[int, Any]:
@@ -345,7 +347,7 @@ class Engine:
         for trails in (self._trail, self._statement_trail):
             for trail in trails.values():
                 del trail[bisect_right(trail, cp.count):]
-        self._last_checkpoint_wall = time.perf_counter()
+        self._last_checkpoint_wall = time.thread_time()
         return run
 
     def _main(self, goal: Goal | None, scan: Scan | None) -> None:
