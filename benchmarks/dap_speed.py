@@ -187,7 +187,7 @@ def main() -> None:
     breakpoint_hits(n)
     inspection(n)
     step_back(max(4, n // 3))
-    attached_run(1 if args.quick else 3)
+    attached_run(1 if args.quick else 5)
 
 
 if __name__ == "__main__":
