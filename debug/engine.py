@@ -188,6 +188,7 @@ class Engine:
 
     def terminate(self) -> None:
         self._end_thread()
+        self.ended = True
         if self._base is not None:
             self._base.close()  # the PyBullet client every copy shares
             self._checkpoints.clear()

@@ -225,6 +225,8 @@ class Session(Sink):
         if engine is None or engine.run is None:
             raise RequestError(f"{what}: nothing is running")
         stop = engine.stop
+        if stop is None and engine.ended:
+            raise RequestError(f"{what}: the run has ended")
         if stop is None:
             raise RequestError(f"{what}: the world is running; pause it first")
         return stop
