@@ -21,6 +21,7 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "fmt": ("rdcd_core.cli_fmt", "format RDCD programs"),
     "simulate": ("sim.cli_simulate", "run a program on a simulated ATRON robot"),
     "sweep": ("sim.sweep.cli", "run experiments: many simulations over a grid of options"),
+    "dap": ("debug.cli", "debug a program in the simulator (Debug Adapter Protocol server)"),
 }
 
 

@@ -1,7 +1,8 @@
 """Run a compiled program on a structure, in the physics world or the lattice world.
 
-``simulate`` injects the program at the entry module following the compiler's injection plan,
-runs for the requested simulated time and returns the report (``sim.report``).
+``simulate`` builds a ``Run`` (the one run loop), which injects the program at the entry module
+following the compiler's injection plan and runs for the requested simulated time; it returns the
+report (``sim.report``).
 """
 
 from __future__ import annotations
@@ -48,17 +49,15 @@ def role_table(program: CompiledProgram) -> RoleTable:
 
 
 def simulate(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
-    if options.vm not in TARGETS:
-        raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
-    boxes = parse_obstacle(options.obstacle)
-    roles = role_table(program)
     start = time.perf_counter()
-    if options.world == "lattice":
-        run = _run_lattice(program, structure, roles, boxes, options)
-    else:
-        run = _run_physics(program, structure, roles, boxes, options)
+    run = Run(program, structure, options)
+    try:
+        run.run_to_end()
+        result = run.finish()
+    finally:
+        run.close()
     wall = time.perf_counter() - start
-    return build_report(program, structure, roles, options, run, wall)
+    return build_report(program, structure, run.roles, options, result, wall)
 
 
 @dataclass
@@ -89,53 +88,6 @@ def inject_program(program: CompiledProgram, inject: Callable[[bytes], None]) ->
         inject(program.fragment(name).code)
 
 
-def _chunks(options: Options, advance: Callable[[float], None],
-            on_chunk: Callable[[], None] | None = None) -> None:
-    done = 0.0
-    while done < options.duration - 1e-9:
-        step = min(CHUNK_S, options.duration - done)
-        tick = time.perf_counter()
-        advance(step)
-        done += step
-        if on_chunk:
-            on_chunk()
-        if options.progress:
-            options.progress(done, options.duration)
-        if options.realtime:
-            time.sleep(max(0.0, step - (time.perf_counter() - tick)))
-
-
-def _run_physics(program: CompiledProgram, structure: Structure, roles: RoleTable, boxes: list[Box],
-                 options: Options) -> RunResult:
-    from sim.world import PhysicsWorld
-
-    world = PhysicsWorld(structure, obstacles=boxes, seed=options.seed, packet_loss=options.packet_loss,
-                         gui=options.gui, visuals=bool(options.record))
-    try:
-        events: list[dict[str, Any]] = []
-        runtimes = world.add_runtimes(roles, options.seed, TARGETS[options.vm])
-        for mid, runtime in runtimes.items():
-            runtime.on_event = _recorder(events, lambda: world.time, mid)
-        world.on_detection = lambda mid, k: events.append(
-            {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
-        advance = world.advance
-        if options.recording is not None:
-            options.recording.attach_physics(world, runtimes)
-            advance = options.recording.sampled(world.advance, lambda: world.time)
-        inject_program(program, runtimes[structure.entry].inject)
-        starts = {mid: (float(c[0]), float(c[1])) for mid, c in world.module_centres().items()}
-        recorder = None
-        if options.record:
-            from sim.record import GifRecorder
-            recorder = GifRecorder(world, roles)
-        _chunks(options, advance, recorder.capture if recorder else None)
-        if recorder:
-            recorder.save(options.record)
-        return RunResult(runtimes, events, world.network.counters.as_dict(), world.tracking, boxes, starts)
-    finally:
-        world.close()
-
-
 def _lattice_cells(boxes: list[Box], structure: Structure) -> frozenset[tuple[int, int, int]]:
     """Lattice places whose centre lies inside an obstacle, at the structure's heights."""
     u = params.LATTICE_UNIT
@@ -150,21 +102,130 @@ def _lattice_cells(boxes: list[Box], structure: Structure) -> frozenset[tuple[in
     return frozenset(cells)
 
 
-def _run_lattice(program: CompiledProgram, structure: Structure, roles: RoleTable, boxes: list[Box],
-                 options: Options) -> RunResult:
-    from vm.lattice.world import LatticeWorld
+class Run:
+    """One simulation, advanced piece by piece: the one run loop of ``simulate``, sweeps, replays
+    and the debugger (``debug``). Building it makes the world, attaches the recorders and injects
+    the program; ``advance_chunk`` runs the next piece of at most ``CHUNK_S`` simulated seconds
+    (the pieces are the same whoever drives the run, so every driver sees the same world);
+    ``finish`` gives the ``RunResult``; ``close`` frees the world (always call it).
 
-    world = LatticeWorld(structure, roles, seed=options.seed, packet_loss=options.packet_loss,
-                         latency_s=params.IR_LATENCY_S,
-                         joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
-                         obstacles=_lattice_cells(boxes, structure), target=TARGETS[options.vm])
-    events: list[dict[str, Any]] = []
-    for mid, runtime in world.runtimes.items():
-        runtime.on_event = _recorder(events, world.now, mid)
-    advance = world.advance
-    if options.recording is not None:
-        options.recording.attach_lattice(world)
-        advance = options.recording.sampled(world.advance, world.now)
-    inject_program(program, world.inject)
-    _chunks(options, advance)
-    return RunResult(world.runtimes, events, world.counters.as_dict(), None, boxes)
+    A driver that must stop inside a piece (a debugger at an instruction) does so from a
+    ``vm.observer.RuntimeObserver`` attached to the runtimes: the piece waits for it."""
+
+    def __init__(self, program: CompiledProgram, structure: Structure, options: Options) -> None:
+        if options.vm not in TARGETS:
+            raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
+        self.program, self.structure, self.options = program, structure, options
+        self.boxes = parse_obstacle(options.obstacle)
+        self.roles = role_table(program)
+        self.events: list[dict[str, Any]] = []
+        self.done = 0.0  # simulated seconds advanced
+        self.world: Any = None
+        self.starts: dict[int, tuple[float, float]] = {}
+        self._recorder: Any = None
+        if options.world == "lattice":
+            self._build_lattice()
+        else:
+            self._build_physics()
+
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.options.duration - 1e-9
+
+    @property
+    def time(self) -> float:
+        """The world's simulated time."""
+        return self.world.now() if self.options.world == "lattice" else self.world.time
+
+    @property
+    def runtimes(self) -> dict:
+        return self.world.runtimes
+
+    def advance_chunk(self) -> bool:
+        """Run the next piece; False (and nothing done) once the duration is reached."""
+        options = self.options
+        if self.finished:
+            return False
+        step = min(CHUNK_S, options.duration - self.done)
+        tick = time.perf_counter()
+        self._advance(step)
+        self.done += step
+        if self._recorder is not None:
+            self._recorder.capture()
+        if options.progress:
+            options.progress(self.done, options.duration)
+        if options.realtime:
+            time.sleep(max(0.0, step - (time.perf_counter() - tick)))
+        return True
+
+    def run_to_end(self) -> None:
+        while self.advance_chunk():
+            pass
+
+    def finish(self) -> RunResult:
+        """The result of the run so far (the GIF, if asked for, is written now)."""
+        if self.options.world == "lattice":
+            world = self.world
+            return RunResult(world.runtimes, self.events, world.counters.as_dict(), None, self.boxes)
+        if self._recorder is not None:
+            self._recorder.save(self.options.record)
+        world = self.world
+        return RunResult(world.runtimes, self.events, world.network.counters.as_dict(), world.tracking,
+                         self.boxes, self.starts)
+
+    def close(self) -> None:
+        if self.options.world != "lattice" and self.world is not None:
+            self.world.close()
+
+    def hook_events(self) -> None:
+        """Record the story of the run (for the report) from this run's world into ``events``;
+        again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
+        world, events = self.world, self.events
+        if self.options.world == "lattice":
+            for mid, runtime in world.runtimes.items():
+                runtime.on_event = _recorder(events, world.now, mid)
+            return
+        for mid, runtime in world.runtimes.items():
+            runtime.on_event = _recorder(events, lambda: world.time, mid)
+        world.on_detection = lambda mid, k: events.append(
+            {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
+
+    # ---- building --------------------------------------------------------------------------
+    def _build_physics(self) -> None:
+        from sim.world import PhysicsWorld
+
+        options, structure = self.options, self.structure
+        world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
+                             packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record))
+        self.world = world
+        try:
+            runtimes = world.add_runtimes(self.roles, options.seed, TARGETS[options.vm])
+            self.hook_events()
+            self._advance = world.advance
+            if options.recording is not None:
+                options.recording.attach_physics(world, runtimes)
+                self._advance = options.recording.sampled(world.advance, lambda: world.time)
+            inject_program(self.program, runtimes[structure.entry].inject)
+            self.starts = {mid: (float(c[0]), float(c[1])) for mid, c in world.module_centres().items()}
+            if options.record:
+                from sim.record import GifRecorder
+                self._recorder = GifRecorder(world, self.roles)
+        except BaseException:
+            world.close()
+            raise
+
+    def _build_lattice(self) -> None:
+        from vm.lattice.world import LatticeWorld
+
+        options, structure = self.options, self.structure
+        world = LatticeWorld(structure, self.roles, seed=options.seed, packet_loss=options.packet_loss,
+                             latency_s=params.IR_LATENCY_S,
+                             joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
+                             obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm])
+        self.world = world
+        self.hook_events()
+        self._advance = world.advance
+        if options.recording is not None:
+            options.recording.attach_lattice(world)
+            self._advance = options.recording.sampled(world.advance, world.now)
+        inject_program(self.program, world.inject)

@@ -12,6 +12,7 @@ instructions per run and the firmware's quirks in what an instruction does (docs
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
@@ -102,15 +103,26 @@ _ENDINGS = {"END_TERMINATE": Outcome.TERMINATE, "END_REPEAT": Outcome.REPEAT,
             "MIGRATE_CONTINUE": Outcome.MIGRATE, "END_WAIT": Outcome.WAIT}
 
 
-def run(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result:
-    """Run ``frame`` until it ends or suspends, at most ``target.max_steps_per_run`` instructions."""
+def run(frame: Frame, m: Machine, target: Target = DEFAULT,
+        before: Callable[[Frame], None] | None = None) -> Result:
+    """Run ``frame`` until it ends or suspends, at most ``target.max_steps_per_run`` instructions.
+    ``before`` (a ``vm.observer`` hook, None by default) is called before each instruction; the
+    loop without it is kept separate so that it pays nothing."""
     at = frame.pc
     try:
-        for _ in range(target.max_steps_per_run):
-            at = frame.pc
-            result = _step(frame, m, target)
-            if result is not None:
-                return result
+        if before is None:
+            for _ in range(target.max_steps_per_run):
+                at = frame.pc
+                result = _step(frame, m, target)
+                if result is not None:
+                    return result
+        else:
+            for _ in range(target.max_steps_per_run):
+                at = frame.pc
+                before(frame)
+                result = _step(frame, m, target)
+                if result is not None:
+                    return result
         return Result(Outcome.ERROR, message=f"more than {target.max_steps_per_run} instructions in one run",
                       pc=frame.pc)
     except VMError as e:

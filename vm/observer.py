@@ -17,12 +17,21 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from vm.interpreter import Result
+    from vm.interpreter import Frame, Result
     from vm.runtime_node import ModuleNode
     from vm.runtime_store import Slot, Task
 
 
 class RuntimeObserver:
+    # opt-in for ``before_instruction``: an observer that leaves it False (a recording) costs the
+    # dispatch loop nothing; the runtime reads it when a run starts
+    instructions = False
+
+    def before_instruction(self, runtime: ModuleNode, frame: Frame) -> None:
+        """The instruction at ``frame.pc`` of ``frame.code`` is about to execute (only when
+        ``instructions`` is True). An observer may wait here (a debugger holding the world still
+        at an instruction boundary); it must not change the runtime or the frame."""
+
     def program_stored(self, runtime: ModuleNode, slot: Slot) -> None:
         """A program (received or injected) was accepted, stored in ``slot`` and queued."""
 

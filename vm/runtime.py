@@ -30,6 +30,7 @@ offsets. The default target is this project's corrected VM.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 from vm import navigation as nav
 from vm.hal import ModuleHal
@@ -170,8 +171,10 @@ class ModuleRuntime(ModuleNode):
                 self._finish(task, run(task.frame, self, self.target))
                 continue
             self._running = task.frame  # observed: where the calls the program makes come from
+            observer = self.observer
+            before = partial(observer.before_instruction, self) if observer.instructions else None
             try:
-                result = run(task.frame, self, self.target)
+                result = run(task.frame, self, self.target, before)
             finally:
                 self._running = None
             self.observer.run_finished(self, task, result)

@@ -96,7 +96,7 @@ class Recording:
         interval = 1.0 / self.hz
 
         def run(duration: float) -> None:
-            done = 0.0  # counted like sim.run._chunks: a piece too short for one step still ends
+            done = 0.0  # counted like sim.run.Run.advance_chunk: a piece too short for one step still ends
             while done < duration - 1e-9:
                 step = min(interval, duration - done)
                 advance(step)

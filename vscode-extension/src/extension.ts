@@ -2,6 +2,7 @@
 import * as vscode from "vscode";
 import { BYTECODE_SCHEME, BytecodeProvider } from "./bytecode";
 import { ServerManager } from "./client";
+import { registerDebugger } from "./debug";
 import { onDidChangePython } from "./python";
 import { SimulationView } from "./simulate";
 
@@ -31,6 +32,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
       }
     }),
     vscode.workspace.onDidGrantWorkspaceTrust(() => void server.restart()),
+    ...registerDebugger((message) => server.outputChannel.appendLine(message)),
   );
   const pythonChanged = await onDidChangePython(() => {
     const config = vscode.workspace.getConfiguration("rdcd.server");

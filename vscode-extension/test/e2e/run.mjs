@@ -539,6 +539,70 @@ async function runChecks(page, url, workspace) {
   });
 }
 
+/** The debugger: a breakpoint set in the editor, F5's configuration (no launch.json), the world
+ * stopped on that line with the modules as threads and the role in the Variables view, then on
+ * to the end. */
+async function checkDebugger(page) {
+  await step(page, "debug-breakpoint", async () => {
+    // not openFile: the Simulate panel, if still open, has the file's name in its tab too
+    await page.keyboard.press("Escape");
+    await retry("open obstacle_avoidance.rdcd from the explorer", async () => {
+      await page.locator('.explorer-folders-view .monaco-list-row[aria-label^="obstacle_avoidance.rdcd"]').first().click();
+      await page.locator('.tab.active[aria-label^="obstacle_avoidance.rdcd"]').first().waitFor({ state: "visible", timeout: 8000 });
+    });
+    await page.locator(".monaco-editor textarea").first().focus();
+    await goTo(page, 13, 1);
+    await runCommand(page, "Debug: Toggle Breakpoint");
+    await until("the breakpoint in the glyph margin", async () =>
+      (await page.locator(".monaco-editor .codicon-debug-breakpoint").count()) > 0, { timeout: 10000 });
+    // F5's command, picked by its exact title ("Debug: Select and Start Debugging" matches too)
+    await retry("Debug: Start Debugging", async () => {
+      await page.keyboard.press("Escape");
+      await page.keyboard.press("F1");
+      const input = page.locator(".quick-input-widget .quick-input-box input");
+      await input.waitFor({ state: "visible", timeout: 5000 });
+      await input.fill(">Debug: Start Debugging");
+      const row = page.locator(".quick-input-widget .monaco-list-row").filter({ hasText: /^\s*Debug: Start Debugging/ }).first();
+      await row.waitFor({ state: "visible", timeout: 8000 });
+      await row.click();
+      await page.locator(".quick-input-widget").waitFor({ state: "hidden", timeout: 5000 }).catch(async () => {
+        // a picker of debuggers: ours
+        await page.locator(".quick-input-widget .monaco-list-row", { hasText: "RDCD" }).first().click({ timeout: 5000 });
+      });
+    });
+    await until("the editor stopped on line 13", async () => {
+      const frame = await page.locator(".monaco-editor .codicon-debug-stackframe").count();
+      const position = await page.locator("#status\\.editor\\.selection").innerText().catch(() => "");
+      return frame > 0 && position.includes("Ln 13,");
+    }, { timeout: 90000 });
+    const threads = await until("module threads in the call stack", async () => {
+      const rows = await page.locator(".debug-call-stack .monaco-list-row").allInnerTexts();
+      return rows.filter((text) => /module \d+/.test(text)).length >= 2 ? rows : undefined;
+    }, { timeout: 20000 });
+    const variables = await until("the role in the Variables view", async () => {
+      const module = page.locator(".debug-variables .monaco-list-row", { hasText: /^\s*Module\s*$/ }).first();
+      if ((await module.getAttribute("aria-expanded").catch(() => null)) === "false") {
+        await module.click();
+      }
+      const rows = await page.locator(".debug-variables .monaco-list-row").allInnerTexts();
+      return rows.some((text) => /role/.test(text) && /(Left|Right)Wheel/.test(text)) ? rows : undefined;
+    }, { timeout: 20000 });
+    await shot(page, "debug-stopped");
+    // the breakpoint off, on to the end of the run
+    await page.locator(".monaco-editor textarea").first().focus();
+    await goTo(page, 13, 1);
+    await runCommand(page, "Debug: Toggle Breakpoint");
+    await until("the breakpoint gone", async () =>
+      (await page.locator(".monaco-editor .codicon-debug-breakpoint").count()) === 0, { timeout: 10000 });
+    await page.locator(".debug-toolbar .codicon-debug-continue").first().click();
+    await until("the debug session to end", async () =>
+      (await page.locator(".debug-toolbar").count()) === 0 || !(await page.locator(".debug-toolbar").first().isVisible()),
+    { timeout: 120000 });
+    return `threads: ${threads.slice(0, 3).join(" | ").replace(/\s+/g, " ")}; ` +
+      `variables: ${variables.slice(0, 3).join(" | ").replace(/\s+/g, " ")}`;
+  });
+}
+
 /** Console messages of the policy blocking something, anywhere in the page and its frames. */
 const policyViolations = [];
 /** Console messages from webviews, and their errors. */
@@ -667,6 +731,7 @@ async function main() {
       await page.screenshot({ path: docs });
       log(`wrote ${docs} (${fs.statSync(docs).size} bytes)`);
     }
+    await checkDebugger(page);
     await checkMissingServer(page);
   } finally {
     await browser?.close().catch(() => undefined);
