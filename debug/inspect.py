@@ -11,6 +11,7 @@ import math
 from typing import Any
 
 from debug.code import CodeIndex
+from sim.state_report import plays
 from vm.interpreter import Frame
 from vm.isa.opcodes import USER_COMMAND_BASE
 from vm.lattice.structure import AXIS_NAMES
@@ -65,7 +66,7 @@ def names(runtime: Any, frame: Frame | None, run: Any) -> dict[str, Any]:
     if frame is not None:
         out.update({"pc": frame.pc, "arg": frame.arg, "depth": len(frame.stack),
                     "top": frame.stack[-1] if frame.stack else None})
-    for name, value in state_values(runtime).items():
+    for name, value in state_values(runtime, getattr(run, "program", None)).items():
         out.setdefault(name, value)
     return out
 
@@ -83,11 +84,17 @@ def _sensor(runtime: Any, k: int) -> bool | None:
         return None
 
 
-def state_values(runtime: Any) -> dict[str, Any]:
-    """The module's state variables, when the VM has them (``ModuleRuntime.state``)."""
+def state_values(runtime: Any, program: Any = None) -> dict[str, Any]:
+    """The module's state by name (the compiled program's layout): module state always, a role
+    state only while the module plays its role (its byte means nothing in another role); without
+    a layout, the raw bytes."""
     state = getattr(runtime, "state", None)
     if state is None:
         return {}
+    entries = getattr(program, "states", None)
+    if entries is not None and isinstance(state, (list, tuple)):
+        role = runtime.roles.name(runtime.role) if runtime.role else None
+        return {e.name: state[e.index] for e in entries if e.index < len(state) and plays(e, role)}
     if isinstance(state, dict):
         return {str(k): v for k, v in state.items()}
     if isinstance(state, (list, tuple)):
@@ -115,7 +122,7 @@ class Inspector:
         out: list[tuple[str, Any, bool]] = [("Module", self.module(runtime, run), False)]
         if frame is not None:
             out.append(("Operand stack", self.stack(frame), False))
-        state = state_values(runtime)
+        state = state_values(runtime, self.code.program)
         if state or hasattr(runtime, "state"):
             out.append(("State", state, False))
         out += [("Event handlers", self.handlers(runtime), False),

@@ -285,3 +285,21 @@ def test_an_exception_breakpoint_on_a_lost_packet(dap: Client) -> None:
     dap.request("setExceptionBreakpoints", {"filters": []})
     dap.request("continue", {"threadId": sender})
     assert dap.stopped()["event"] == "terminated"
+
+
+GRADIENT = ROOT / "examples" / "gradient.rdcd"
+GRADIENT_LINE = 16  # hops := min(neighbours.hops) + 1;
+
+
+def test_the_state_scope_names_each_state_and_the_watch_reads_it(dap: Client) -> None:
+    dap.launch(GRADIENT, breakpoints=[{"line": GRADIENT_LINE, "condition": "hops < 127"}],
+               world="lattice", config="snake5", obstacle="none", duration=4)
+    stop = dap.stopped()
+    assert stop["event"] == "stopped" and stop["body"]["reason"] == "breakpoint"
+    frame = top_frame(dap, stop["body"]["threadId"])
+    assert frame["line"] == GRADIENT_LINE
+    state = scope(dap, frame["id"], "State")
+    assert set(state) == {"hops"} and 0 < int(state["hops"]) < 127
+    watched = dap.request("evaluate", {"expression": "hops", "frameId": frame["id"], "context": "watch"})
+    assert watched["body"]["result"] == state["hops"]
+    dap.request("disconnect", {"terminateDebuggee": True})
