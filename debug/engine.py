@@ -92,7 +92,7 @@ class Checkpoint:
     count: int  # the boundary moment it was taken at
     time: float
     collided: bool
-    run: Run  # a copy, never run itself: restoring copies it again
+    run: Run | None  # a copy, never run itself: restoring copies it again; None: start again
     state: int | None  # PyBullet's saved state (physics world)
 
 
@@ -160,6 +160,7 @@ class Engine:
         self._observer = _Observer(self)
         self._base: Run | None = None
         self._checkpoints: list[Checkpoint] = []
+        self._copyable = True  # False once a run could not be copied: checkpoints are then the start
 
     # ---- the adapter's side ----------------------------------------------------------------
     def start(self, stop_on_entry: bool) -> None:
@@ -272,13 +273,17 @@ class Engine:
     def _first_run(self) -> Run:
         """The one run built from nothing; every later one is a copy of one of its checkpoints
         (in the physics world they all share its PyBullet client, closed by ``terminate``)."""
-        run = Run(self.program, self.structure, self.options)
+        run = self._new_run()
         self._base = run
+        self.count, self._collided = 0, False
+        self._checkpoint(run, force=True)
+        return run
+
+    def _new_run(self) -> Run:
+        run = Run(self.program, self.structure, self.options)
         for runtime in run.runtimes.values():
             runtime.observer = self._observer
         run.world.network.on_send = self.on_send
-        self.count, self._collided = 0, False
-        self._checkpoint(run, force=True)
         return run
 
     def _checkpoint(self, run: Run, force: bool = False) -> None:
@@ -291,12 +296,23 @@ class Engine:
             wall = max(CHECKPOINT_WALL_S, COPY_SHARE * self._copy_cost)
             if last is None or self.count <= last.count or now - self._last_checkpoint_wall < wall:
                 return
+        if not self._copyable:
+            if force and not self._checkpoints:
+                self._checkpoints.append(Checkpoint(0, 0.0, False, None, None))
+            return
+        try:
+            copied = copy.deepcopy(run, self._memo(run))
+        except TypeError:
+            # a run that cannot be copied (the firmware profile's controller keeps its scheduler in
+            # generators): going back runs again from the start, which the deterministic world allows
+            self._copyable = False
+            self._checkpoints.append(Checkpoint(0, 0.0, False, None, None))
+            return
         state = None
         if self.options.world != "lattice":
             import pybullet as pb
 
             state = pb.saveState(physicsClientId=run.world.client)
-        copied = copy.deepcopy(run, self._memo(run))
         self._checkpoints.append(Checkpoint(self.count, run.time, self._collided, copied, state))
         self._last_checkpoint_wall = time.thread_time()
         self._copy_cost = self._last_checkpoint_wall - now
@@ -333,6 +349,14 @@ class Engine:
     def _restore(self, before: int) -> Run:
         """A copy of the last checkpoint at or before moment ``before``, ready to go on."""
         cp = max((c for c in self._checkpoints if c.count <= before), key=lambda c: c.count)
+        if cp.run is None:  # not copyable: a new run from the start
+            run = self._new_run()
+            self.count, self._collided = 0, False
+            for trails in (self._trail, self._statement_trail):
+                for trail in trails.values():
+                    del trail[:]
+            self._last_checkpoint_wall = time.thread_time()
+            return run
         run = copy.deepcopy(cp.run, self._memo(cp.run))
         run.hook_events()
         if cp.state is not None:

@@ -35,6 +35,7 @@ from vm.firmware_parts import (
     s8,
     virtual_to_physical,
 )
+from vm.interpreter import Frame
 from vm.isa.opcodes import BY_OPCODE
 from vm.roles import ANY_ROLE
 
@@ -101,11 +102,17 @@ class FirmwareInterpreter:
             return code[pc + k] if pc + k < size else 0
 
         connected = self.hal.connected_channels
+        observer = self.observer
+        watch = observer.before_instruction if observer is not None and observer.instructions else None
+        frame = Frame(code, argument) if watch is not None else None
         while pc < size:
             if count > MAX_INSTRUCTIONS:
                 self._fail(11, pc, code, pc, f"more than {MAX_INSTRUCTIONS} instructions in one run")
             count += 1
             at = pc
+            if frame is not None:  # observed (a debugger): the instruction about to run, as a frame
+                frame.pc, frame.stack = pc, list(stack)
+                watch(self, frame)  # type: ignore[misc, arg-type]
             op = code[pc]
             pc += 1
             if op in (1, 2, 3):

@@ -303,3 +303,23 @@ def test_the_state_scope_names_each_state_and_the_watch_reads_it(dap: Client) ->
     watched = dap.request("evaluate", {"expression": "hops", "frameId": frame["id"], "context": "watch"})
     assert watched["body"]["result"] == state["hops"]
     dap.request("disconnect", {"terminateDebuggee": True})
+
+
+def test_the_firmware_profile_can_be_debugged(dap: Client) -> None:
+    """The original profile's controller (a port of the firmware's) cannot be copied: going back
+    runs again from the start. Its runtime errors stop the world, and its lines take breakpoints."""
+    dap.launch(SNAKE, filters=["runtime"], world="lattice", config="snake5", vm="original", target="default",
+               obstacle="none", duration=10)
+    stop = dap.stopped()
+    assert stop["event"] == "stopped" and stop["body"]["reason"] == "exception", stop
+    assert "unknown instruction" in stop["body"]["text"]
+    thread = stop["body"]["threadId"]
+    before = world_state(dap)
+    dap.request("stepBack", {"threadId": thread})
+    back = dap.stopped()
+    assert back["event"] == "stopped" and back["body"]["reason"] == "step", (back, dap.events("output"))
+    dap.request("next", {"threadId": thread})
+    again = dap.stopped()
+    assert again["event"] == "stopped"
+    assert world_state(dap) == before
+    dap.request("disconnect", {"terminateDebuggee": True})
