@@ -22,6 +22,7 @@ from vm.isa.disassembler import decode_at
 
 MAX_VARIABLES = 10_000
 MAX_INSTRUCTIONS = 10_000
+MOMENT_EVENT = "rdcd/moment"  # a custom event (DAP allows them) after each stopped event
 
 
 class RequestError(Exception):
@@ -112,6 +113,9 @@ class Session(Sink):
         if stop.text:
             body["text"] = stop.text
         self.channel.event("stopped", body)
+        # for the editor's replay panel: the same moment in a replay of a run with the same options
+        # (the simulation is deterministic), with the module the stop is on (None: no module)
+        self.channel.event(MOMENT_EVENT, {"t": stop.time, "module": stop.module})
 
     def output(self, text: str, category: str = "console", line: int = 0) -> None:
         self._console(text, category, line)

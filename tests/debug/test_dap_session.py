@@ -199,6 +199,43 @@ def test_stepping_back_and_forward_again_gives_the_same_states(dap: Client) -> N
     assert world_state(dap) == ahead
 
 
+def moments_match_stops(dap: Client) -> list[tuple[float, int | None]]:
+    """Each stopped event is followed by one rdcd/moment with its time and module: the moments."""
+    stops, moments = dap.events("stopped"), dap.events("rdcd/moment")
+    assert len(moments) == len(stops) > 0
+    out = []
+    for stop, moment in zip(stops, moments, strict=True):
+        t, module = moment["body"]["t"], moment["body"]["module"]
+        assert dap.messages.index(moment) > dap.messages.index(stop)
+        assert stop["body"]["description"].endswith(f" at t = {t:.3f} s")
+        assert module is None or module == stop["body"]["threadId"] - 1
+        out.append((t, module))
+    return out
+
+
+def test_every_stop_sends_the_moment_for_the_replay_panel(dap: Client) -> None:
+    dap.launch(OBSTACLE, stopOnEntry=True, breakpoints=[{"line": HANDLER_LINE}], **LATTICE)
+    assert dap.stopped()["body"]["reason"] == "entry"
+    dap.request("continue", {"threadId": 1})
+    stop = run_to_handler(dap)
+    thread = stop["body"]["threadId"]
+    dap.request("setBreakpoints", {"source": {"path": str(OBSTACLE)}, "breakpoints": []})
+    for _ in range(2):
+        dap.request("next", {"threadId": thread, "granularity": "instruction"})
+        dap.stopped()
+    dap.request("stepBack", {"threadId": thread, "granularity": "instruction"})
+    dap.stopped()
+    dap.request("continue", {"threadId": thread})
+    assert dap.stopped()["event"] == "terminated"
+    moments = moments_match_stops(dap)
+    assert moments[0] == (0.0, None)  # the start: no module runs yet
+    handler = moments[len(moments) - 4]
+    assert 3.0 <= handler[0] < 3.1 and handler[1] == thread - 1  # the wheel that hit the breakpoint
+    assert all(m[1] == thread - 1 for m in moments[-3:])
+    assert moments[-3][0] >= handler[0]
+    assert moments[-1] == moments[-3]  # two steps and one back: the moment after the first step
+
+
 def test_reverse_continue_returns_to_the_last_breakpoint(dap: Client) -> None:
     dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE}], **LATTICE)
     first = dap.stopped()
