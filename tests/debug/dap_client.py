@@ -37,9 +37,11 @@ CUSTOM_EVENTS: dict[str, dict[str, Any]] = {
     "rdcd/moment": {
         "type": "object", "required": ["body"],
         "properties": {"body": {
-            "type": "object", "required": ["t", "module"], "additionalProperties": False,
+            "type": "object", "required": ["t", "module", "run"], "additionalProperties": False,
             "properties": {"t": {"type": "number", "minimum": 0},
-                           "module": {"type": ["integer", "null"], "minimum": 0}}}}},
+                           "module": {"type": ["integer", "null"], "minimum": 0},
+                           "run": {"type": "object", "required": ["world", "config", "duration_s", "seed",
+                                                                  "source_sha256"]}}}}},
 }
 
 

@@ -3,6 +3,9 @@ it sends against the protocol's schema."""
 
 from __future__ import annotations
 
+import hashlib
+import json
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -266,7 +269,7 @@ def test_stop_on_entry_pause_and_terminate(dap: Client) -> None:
 @pytest.mark.parametrize(("world", "obstacle", "duration", "look"), [
     ("lattice", "wall:0.1", "8", False), ("physics", "wall:0.3", "6", True)])
 def test_a_debugged_run_is_the_simulate_run(dap: Client, world: str, obstacle: str, duration: str,
-                                            look: bool) -> None:
+                                            look: bool, tmp_path: Path) -> None:
     """Without breakpoints, or stopping and reading every variable of every module on the way
     (reading changes nothing), the run ends as ``rdcd simulate`` ends."""
     import subprocess
@@ -282,11 +285,17 @@ def test_a_debugged_run_is_the_simulate_run(dap: Client, world: str, obstacle: s
         dap.launch(OBSTACLE, world=world, obstacle=obstacle, duration=float(duration))
         assert dap.stopped()["event"] == "terminated"
     summary = "".join(e["body"]["output"] for e in dap.events("output"))
+    report = tmp_path / "report.json"
     out = subprocess.run([sys.executable, "-m", "rdcd_core", "simulate", str(OBSTACLE), "--world", world,
-                          "--obstacle", obstacle, "--duration", duration], capture_output=True, text=True,
-                         cwd=ROOT, check=True).stdout
+                          "--obstacle", obstacle, "--duration", duration, "--report", str(report)],
+                         capture_output=True, text=True, cwd=ROOT, check=True).stdout
+    if look:  # each stop names the run as the report does: the replay panel compares the two
+        run = dict(dap.events("rdcd/moment")[0]["body"]["run"])
+        assert run.pop("source_sha256") == hashlib.sha256(OBSTACLE.read_bytes()).hexdigest()
+        reported = json.loads(report.read_text())
+        assert run == {key: reported[key] for key in run} and len(run) >= 9
     significant = [line for line in out.splitlines() if line.strip() and "real time" not in line
-                   and "real-time" not in line and "wall" not in line]
+                   and "real-time" not in line and "wall" not in line and not line.startswith("report:")]
     assert len(significant) >= 4
     missing = [line for line in significant if line not in summary]
     assert missing == []
