@@ -16,23 +16,59 @@ export interface Moment {
   readonly module: number | null;
 }
 
+/** A stop's moment with the run the debugger runs: the report's option fields and `source_sha256`. */
+export interface StopMoment extends Moment {
+  readonly run?: Readonly<Record<string, unknown>> | undefined;
+}
+
 export interface SeekMessage extends Moment {
   readonly type: typeof SEEK_MESSAGE;
 }
 
 /** The moment of a debug session's custom event, or undefined for another event or a malformed body. */
-export function parseMoment(event: string, body: unknown): Moment | undefined {
+export function parseMoment(event: string, body: unknown): StopMoment | undefined {
   if (event !== MOMENT_EVENT || typeof body !== "object" || body === null || Array.isArray(body)) {
     return undefined;
   }
-  const { t, module } = body as Record<string, unknown>;
+  const { t, module, run } = body as Record<string, unknown>;
   if (typeof t !== "number" || !Number.isFinite(t) || t < 0) {
     return undefined;
   }
   if (module !== null && (typeof module !== "number" || !Number.isInteger(module) || module < 0)) {
     return undefined;
   }
-  return { t, module };
+  const named = typeof run === "object" && run !== null && !Array.isArray(run) ? (run as Record<string, unknown>) : undefined;
+  return { t, module, run: named };
+}
+
+function shown(value: unknown): string {
+  return value === undefined ? "unset" : JSON.stringify(value);
+}
+
+/**
+ * How the run the replay shows (its report, and the hash of the text it simulated: replayStore's
+ * sourceHash) differs from the debugged run, one phrase each ("duration_s 20 in the replay, 8 in
+ * the debugger", "the program text"); empty when they match or the adapter did not say.
+ */
+export function runDifferences(
+  debugged: Readonly<Record<string, unknown>> | undefined,
+  report: Readonly<Record<string, unknown>>,
+  sourceHash: string | undefined,
+): string[] {
+  if (debugged === undefined) {
+    return [];
+  }
+  const out: string[] = [];
+  for (const [key, value] of Object.entries(debugged)) {
+    if (key === "source_sha256") {
+      if (typeof value === "string" && sourceHash !== undefined && !value.startsWith(sourceHash)) {
+        out.push("the program text");
+      }
+    } else if (JSON.stringify(report[key]) !== JSON.stringify(value)) {
+      out.push(`${key} ${shown(report[key])} in the replay, ${shown(value)} in the debugger`);
+    }
+  }
+  return out;
 }
 
 /**

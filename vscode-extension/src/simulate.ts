@@ -9,7 +9,7 @@ import * as path from "node:path";
 import * as vscode from "vscode";
 import { LANGUAGE_ID, type ServerManager } from "./client";
 import { DEBUG_TYPE } from "./debugConfig";
-import { parseMoment, seekMessage, sessionProgram, type Moment } from "./replayFollow";
+import { parseMoment, runDifferences, seekMessage, sessionProgram, type StopMoment } from "./replayFollow";
 import { renderReplayHtml, ReplayPageError, revealedLine } from "./replayHtml";
 import { ReplayStore, sourceHash, type SavedRun } from "./replayStore";
 import { renderErrorHtml, renderReportHtml } from "./reportHtml";
@@ -21,7 +21,9 @@ export class SimulationView implements vscode.Disposable {
   private shown: SavedRun | undefined;
   private readonly store: ReplayStore;
   /** Where the last stop of an rdcd debug session was (for a replay shown while it is stopped). */
-  private stop: { readonly session: vscode.DebugSession; readonly program: string; readonly moment: Moment } | undefined;
+  private stop: { readonly session: vscode.DebugSession; readonly program: string; readonly moment: StopMoment } | undefined;
+  /** The (session, run) pair last warned about being different runs: said once, not at every step. */
+  private warned: string | undefined;
 
   constructor(
     private readonly server: ServerManager,
@@ -179,8 +181,17 @@ export class SimulationView implements vscode.Disposable {
     const uri = vscode.Uri.parse(run.uri, true);
     const shownProgram = uri.scheme === "file" ? uri.fsPath : undefined;
     const message = seekMessage(stop.moment, stop.program, shownProgram, process.platform === "win32" || process.platform === "darwin");
-    if (message !== undefined) {
-      void this.panel.webview.postMessage(message);
+    if (message === undefined) {
+      return;
+    }
+    void this.panel.webview.postMessage(message);
+    const differences = runDifferences(stop.moment.run, run.report, run.sourceHash);
+    const pair = `${stop.session.id} ${run.replayPath ?? ""} ${run.sourceHash}`;
+    if (differences.length > 0 && this.warned !== pair) {
+      this.warned = pair;
+      const text = `RDCD: the replay is of another run than the debugged one (${differences.join("; ")}): it shows the same time of that run`;
+      this.log(text);
+      vscode.window.setStatusBarMessage(`$(warning) ${text}`, 15000);
     }
   }
 

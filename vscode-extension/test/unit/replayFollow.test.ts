@@ -1,11 +1,12 @@
 import * as assert from "node:assert/strict";
 import * as path from "node:path";
-import { MOMENT_EVENT, parseMoment, samePath, seekMessage, sessionProgram } from "../../src/replayFollow";
+import { MOMENT_EVENT, parseMoment, runDifferences, samePath, seekMessage, sessionProgram } from "../../src/replayFollow";
 
 describe("parseMoment", () => {
   it("reads the time and the module of an rdcd/moment event", () => {
-    assert.deepEqual(parseMoment(MOMENT_EVENT, { t: 3.05, module: 4 }), { t: 3.05, module: 4 });
-    assert.deepEqual(parseMoment(MOMENT_EVENT, { t: 0, module: null }), { t: 0, module: null });
+    assert.deepEqual(parseMoment(MOMENT_EVENT, { t: 3.05, module: 4 }), { t: 3.05, module: 4, run: undefined });
+    assert.deepEqual(parseMoment(MOMENT_EVENT, { t: 0, module: null, run: { seed: 1 } }), { t: 0, module: null, run: { seed: 1 } });
+    assert.deepEqual(parseMoment(MOMENT_EVENT, { t: 0, module: null, run: [1] }), { t: 0, module: null, run: undefined });
   });
 
   it("ignores other events and malformed bodies", () => {
@@ -50,5 +51,31 @@ describe("seekMessage", () => {
     assert.equal(samePath(file, file.toUpperCase(), false), false);
     assert.equal(samePath(file, file.toUpperCase(), true), true);
     assert.notEqual(seekMessage({ t: 1, module: 0 }, file, file.toUpperCase(), true), undefined);
+  });
+});
+
+describe("runDifferences", () => {
+  const report = { world: "physics", vm: "", target: "default", config: "car7", entry: 0, obstacle: "wall:1", duration_s: 20,
+    seed: 0, packet_loss: 0, modules: [] };
+  const debugged = { world: "physics", vm: "", target: "default", config: "car7", entry: 0, obstacle: "wall:1", duration_s: 20,
+    seed: 0, packet_loss: 0, source_sha256: "ab12".repeat(16) };
+
+  it("finds nothing when the replay's run is the debugged run", () => {
+    assert.deepEqual(runDifferences(debugged, report, "ab12".repeat(8)), []);
+  });
+
+  it("names each option that differs, and a different program text", () => {
+    assert.deepEqual(runDifferences({ ...debugged, duration_s: 8, world: "lattice" }, report, "ab12".repeat(8)), [
+      'world "physics" in the replay, "lattice" in the debugger',
+      "duration_s 20 in the replay, 8 in the debugger",
+    ]);
+    assert.deepEqual(runDifferences(debugged, report, "ffff".repeat(8)), ["the program text"]);
+    assert.deepEqual(runDifferences({ ...debugged, packet_loss: 0.1 }, { ...report, packet_loss: undefined }, undefined), [
+      "packet_loss unset in the replay, 0.1 in the debugger",
+    ]);
+  });
+
+  it("says nothing when the adapter did not name its run", () => {
+    assert.deepEqual(runDifferences(undefined, report, "0".repeat(32)), []);
   });
 });
