@@ -540,8 +540,8 @@ async function runChecks(page, url, workspace) {
 }
 
 /** The debugger: a breakpoint set in the editor, F5's configuration (no launch.json), the world
- * stopped on that line with the modules as threads and the role in the Variables view, then on
- * to the end. */
+ * stopped on that line with the modules as threads and the role in the Variables view, the replay
+ * panel at the same moment, then on to the end. */
 async function checkDebugger(page) {
   await step(page, "debug-breakpoint", async () => {
     // not openFile: the Simulate panel, if still open, has the file's name in its tab too
@@ -587,6 +587,23 @@ async function checkDebugger(page) {
       const rows = await page.locator(".debug-variables .monaco-list-row").allInnerTexts();
       return rows.some((text) => /role/.test(text) && /(Left|Right)Wheel/.test(text)) ? rows : undefined;
     }, { timeout: 20000 });
+    // the Simulate panel, still open on the last run of this file (same settings, so the same run),
+    // follows the debugger: the time of the stop (the handler's event of the stopped module) and
+    // that module's panel open
+    const moment = await until("the replay at the stop's moment", async () => {
+      const state = await simulationView(page).locator("html").evaluate(() => {
+        const replay = window.rdcdReplay;
+        const heading = document.querySelector(".rr-module h3")?.textContent ?? "";
+        const id = Number(/^Module (\d+)/.exec(heading)?.[1] ?? Number.NaN);
+        const t = replay.time();
+        const handler = replay.events().some((e) => e.kind === "handler" && e.module === id && Math.abs(e.t - t) < 0.1);
+        return { t, id, handler };
+      }, undefined, { timeout: 2000 }).catch(() => undefined);
+      return state !== undefined && state.t > 0 && Number.isInteger(state.id) && state.handler ? state : undefined;
+    }, { timeout: 20000 });
+    if (!threads.some((text) => text.includes(`module ${moment.id} `))) {
+      throw new Error(`the replay shows module ${moment.id}, which is not a thread: ${threads.join(" | ")}`);
+    }
     await shot(page, "debug-stopped");
     // the breakpoint off, on to the end of the run
     await page.locator(".monaco-editor textarea").first().focus();
@@ -598,7 +615,7 @@ async function checkDebugger(page) {
     await until("the debug session to end", async () =>
       (await page.locator(".debug-toolbar").count()) === 0 || !(await page.locator(".debug-toolbar").first().isVisible()),
     { timeout: 120000 });
-    return `threads: ${threads.slice(0, 3).join(" | ").replace(/\s+/g, " ")}; ` +
+    return `replay at t = ${moment.t.toFixed(3)} s on module ${moment.id}; threads: ${threads.slice(0, 3).join(" | ").replace(/\s+/g, " ")}; ` +
       `variables: ${variables.slice(0, 3).join(" | ").replace(/\s+/g, " ")}`;
   });
 }
