@@ -588,22 +588,27 @@ async function checkDebugger(page) {
       return rows.some((text) => /role/.test(text) && /(Left|Right)Wheel/.test(text)) ? rows : undefined;
     }, { timeout: 20000 });
     // the Simulate panel, still open on the last run of this file (same settings, so the same run),
-    // follows the debugger: the time of the stop (the handler's event of the stopped module) and
-    // that module's panel open
+    // follows the debugger: the time of the stop that the call stack shows on the stopped module
+    // ("breakpoint at t = 3.100 s"), with that module's panel open
+    let seen = "nothing";
     const moment = await until("the replay at the stop's moment", async () => {
-      const state = await simulationView(page).locator("html").evaluate(() => {
-        const replay = window.rdcdReplay;
-        const heading = document.querySelector(".rr-module h3")?.textContent ?? "";
-        const id = Number(/^Module (\d+)/.exec(heading)?.[1] ?? Number.NaN);
-        const t = replay.time();
-        const handler = replay.events().some((e) => e.kind === "handler" && e.module === id && Math.abs(e.t - t) < 0.1);
-        return { t, id, handler };
-      }, undefined, { timeout: 2000 }).catch(() => undefined);
-      return state !== undefined && state.t > 0 && Number.isInteger(state.id) && state.handler ? state : undefined;
-    }, { timeout: 20000 });
-    if (!threads.some((text) => text.includes(`module ${moment.id} `))) {
-      throw new Error(`the replay shows module ${moment.id}, which is not a thread: ${threads.join(" | ")}`);
-    }
+      const rows = await page.locator(".debug-call-stack .monaco-list-row").allInnerTexts();
+      const stopped = rows.map((text) => /module (\d+)[\s\S]*breakpoint at t = ([\d.]+) s/i.exec(text)).find((m) => m !== null);
+      const state = await simulationView(page).locator("html").evaluate(() => ({
+        t: window.rdcdReplay.time(),
+        heading: document.querySelector(".rr-module h3")?.textContent ?? "",
+      }), undefined, { timeout: 2000 }).catch((error) => { seen = `the replay: ${error.message.slice(0, 200)}`; });
+      if (state !== undefined) {
+        seen = `stopped ${stopped ? `module ${stopped[1]} at ${stopped[2]} s` : "nowhere"}, replay at ${state.t} s, "${state.heading}"`;
+      }
+      if (stopped === undefined || stopped === null || state === undefined) {
+        return undefined;
+      }
+      const same = Math.abs(state.t - Number(stopped[2])) < 0.0006 && state.heading.startsWith(`Module ${stopped[1]}`);
+      return same ? { t: state.t, id: Number(stopped[1]) } : undefined;
+    }, { timeout: 20000 }).catch((error) => {
+      throw new Error(`${error.message}; last seen: ${seen}`);
+    });
     await shot(page, "debug-stopped");
     // the breakpoint off, on to the end of the run
     await page.locator(".monaco-editor textarea").first().focus();
