@@ -22,6 +22,7 @@ from vm.isa.disassembler import decode_at
 
 MAX_VARIABLES = 10_000
 MAX_INSTRUCTIONS = 10_000
+MOMENT_EVENT = "rdcd/moment"  # a custom event (DAP allows them) after each stopped event
 
 
 class RequestError(Exception):
@@ -42,6 +43,7 @@ class Session(Sink):
         self._frames: dict[int, tuple[int, bytes | None, int | None, Any]] = {}
         self._refs: dict[int, Any] = {}
         self._configured = False
+        self._run: dict[str, Any] | None = None
         self._handlers: dict[str, Callable[[dict[str, Any]], dict[str, Any] | None]] = {
             name[3:]: getattr(self, name) for name in dir(self) if name.startswith("on_")}
 
@@ -112,6 +114,21 @@ class Session(Sink):
         if stop.text:
             body["text"] = stop.text
         self.channel.event("stopped", body)
+        # for the editor's replay panel: the same moment in a replay of a run with the same options
+        # (the simulation is deterministic), with the module the stop is on (None: no module)
+        self.channel.event(MOMENT_EVENT, {"t": stop.time, "module": stop.module, "run": self._run_options()})
+
+    def _run_options(self) -> dict[str, Any]:
+        """The launch's run as a report names it, and the SHA-256 of the program text it runs."""
+        if self._run is None:
+            import hashlib
+
+            from sim.report import run_options
+            launch = self.launch
+            assert launch is not None  # a stop comes only after a launch
+            self._run = {**run_options(launch.program, launch.structure, launch.options),
+                         "source_sha256": hashlib.sha256(launch.text.encode("utf-8")).hexdigest()}
+        return self._run
 
     def output(self, text: str, category: str = "console", line: int = 0) -> None:
         self._console(text, category, line)

@@ -47,6 +47,22 @@ def _errors(program: CompiledProgram, rt: Any) -> list[dict[str, Any]]:
     return out
 
 
+def run_options(program: CompiledProgram, structure: Structure, options: Options) -> dict[str, Any]:
+    """What a run is made of, as its report names it. The debugger sends the same fields with each
+    stop, so an editor can tell whether a replay shows a run like the one being debugged."""
+    return {
+        "world": options.world,
+        "vm": options.vm,
+        "target": program.target,
+        "config": structure.name or options.config,
+        "entry": structure.entry,
+        "obstacle": options.obstacle,
+        "duration_s": options.duration,
+        "seed": options.seed,
+        "packet_loss": options.packet_loss,
+    }
+
+
 def build_report(program: CompiledProgram, structure: Structure, roles: RoleTable, options: Options,
                  run: RunResult, wall_s: float) -> dict[str, Any]:
     modules = []
@@ -65,15 +81,7 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
     tracking = run.tracking
     detections = sum(1 for e in run.events if e["kind"] == "handler")
     report: dict[str, Any] = {
-        "world": options.world,
-        "vm": options.vm,
-        "target": program.target,
-        "config": structure.name or options.config,
-        "entry": structure.entry,
-        "obstacle": options.obstacle,
-        "duration_s": options.duration,
-        "seed": options.seed,
-        "packet_loss": options.packet_loss,
+        **run_options(program, structure, options),
         "wall_time_s": round(wall_s, 3),
         "real_time_factor": round(options.duration / wall_s, 2) if wall_s > 0 else None,
         "modules": modules,

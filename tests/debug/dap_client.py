@@ -32,6 +32,19 @@ def _validator(name: str) -> jsonschema.Draft4Validator:
     return jsonschema.Draft4Validator({"$ref": f"#/definitions/{name}", "definitions": _definitions()})
 
 
+# The adapter's own events (DAP lets an adapter add events; a client ignores those it does not know).
+CUSTOM_EVENTS: dict[str, dict[str, Any]] = {
+    "rdcd/moment": {
+        "type": "object", "required": ["body"],
+        "properties": {"body": {
+            "type": "object", "required": ["t", "module", "run"], "additionalProperties": False,
+            "properties": {"t": {"type": "number", "minimum": 0},
+                           "module": {"type": ["integer", "null"], "minimum": 0},
+                           "run": {"type": "object", "required": ["world", "config", "duration_s", "seed",
+                                                                  "source_sha256"]}}}}},
+}
+
+
 def schema_problems(message: dict[str, Any]) -> list[str]:
     """What is wrong with a message from the adapter (empty: it follows the schema)."""
     names = ["ProtocolMessage"]
@@ -50,6 +63,11 @@ def schema_problems(message: dict[str, Any]) -> list[str]:
         specific = event[:1].upper() + event[1:] + "Event"
         if specific in _definitions():
             names.append(specific)
+        elif event in CUSTOM_EVENTS:
+            out = [f"{event}: {'/'.join(map(str, e.absolute_path))}: {e.message}"
+                   for e in jsonschema.Draft4Validator(CUSTOM_EVENTS[event]).iter_errors(message)]
+            if out:
+                return out
         else:
             return [f"no event {event!r} in the protocol"]
     else:

@@ -3,6 +3,9 @@ it sends against the protocol's schema."""
 
 from __future__ import annotations
 
+import hashlib
+import json
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -199,6 +202,43 @@ def test_stepping_back_and_forward_again_gives_the_same_states(dap: Client) -> N
     assert world_state(dap) == ahead
 
 
+def moments_match_stops(dap: Client) -> list[tuple[float, int | None]]:
+    """Each stopped event is followed by one rdcd/moment with its time and module: the moments."""
+    stops, moments = dap.events("stopped"), dap.events("rdcd/moment")
+    assert len(moments) == len(stops) > 0
+    out = []
+    for stop, moment in zip(stops, moments, strict=True):
+        t, module = moment["body"]["t"], moment["body"]["module"]
+        assert dap.messages.index(moment) > dap.messages.index(stop)
+        assert stop["body"]["description"].endswith(f" at t = {t:.3f} s")
+        assert module is None or module == stop["body"]["threadId"] - 1
+        out.append((t, module))
+    return out
+
+
+def test_every_stop_sends_the_moment_for_the_replay_panel(dap: Client) -> None:
+    dap.launch(OBSTACLE, stopOnEntry=True, breakpoints=[{"line": HANDLER_LINE}], **LATTICE)
+    assert dap.stopped()["body"]["reason"] == "entry"
+    dap.request("continue", {"threadId": 1})
+    stop = run_to_handler(dap)
+    thread = stop["body"]["threadId"]
+    dap.request("setBreakpoints", {"source": {"path": str(OBSTACLE)}, "breakpoints": []})
+    for _ in range(2):
+        dap.request("next", {"threadId": thread, "granularity": "instruction"})
+        dap.stopped()
+    dap.request("stepBack", {"threadId": thread, "granularity": "instruction"})
+    dap.stopped()
+    dap.request("continue", {"threadId": thread})
+    assert dap.stopped()["event"] == "terminated"
+    moments = moments_match_stops(dap)
+    assert moments[0] == (0.0, None)  # the start: no module runs yet
+    handler = moments[len(moments) - 4]
+    assert 3.0 <= handler[0] < 3.1 and handler[1] == thread - 1  # the wheel that hit the breakpoint
+    assert all(m[1] == thread - 1 for m in moments[-3:])
+    assert moments[-3][0] >= handler[0]
+    assert moments[-1] == moments[-3]  # two steps and one back: the moment after the first step
+
+
 def test_reverse_continue_returns_to_the_last_breakpoint(dap: Client) -> None:
     dap.launch(OBSTACLE, breakpoints=[{"line": HANDLER_LINE}], **LATTICE)
     first = dap.stopped()
@@ -229,7 +269,7 @@ def test_stop_on_entry_pause_and_terminate(dap: Client) -> None:
 @pytest.mark.parametrize(("world", "obstacle", "duration", "look"), [
     ("lattice", "wall:0.1", "8", False), ("physics", "wall:0.3", "6", True)])
 def test_a_debugged_run_is_the_simulate_run(dap: Client, world: str, obstacle: str, duration: str,
-                                            look: bool) -> None:
+                                            look: bool, tmp_path: Path) -> None:
     """Without breakpoints, or stopping and reading every variable of every module on the way
     (reading changes nothing), the run ends as ``rdcd simulate`` ends."""
     import subprocess
@@ -245,11 +285,17 @@ def test_a_debugged_run_is_the_simulate_run(dap: Client, world: str, obstacle: s
         dap.launch(OBSTACLE, world=world, obstacle=obstacle, duration=float(duration))
         assert dap.stopped()["event"] == "terminated"
     summary = "".join(e["body"]["output"] for e in dap.events("output"))
+    report = tmp_path / "report.json"
     out = subprocess.run([sys.executable, "-m", "rdcd_core", "simulate", str(OBSTACLE), "--world", world,
-                          "--obstacle", obstacle, "--duration", duration], capture_output=True, text=True,
-                         cwd=ROOT, check=True).stdout
+                          "--obstacle", obstacle, "--duration", duration, "--report", str(report)],
+                         capture_output=True, text=True, cwd=ROOT, check=True).stdout
+    if look:  # each stop names the run as the report does: the replay panel compares the two
+        run = dict(dap.events("rdcd/moment")[0]["body"]["run"])
+        assert run.pop("source_sha256") == hashlib.sha256(OBSTACLE.read_bytes()).hexdigest()
+        reported = json.loads(report.read_text())
+        assert run == {key: reported[key] for key in run} and len(run) >= 9
     significant = [line for line in out.splitlines() if line.strip() and "real time" not in line
-                   and "real-time" not in line and "wall" not in line]
+                   and "real-time" not in line and "wall" not in line and not line.startswith("report:")]
     assert len(significant) >= 4
     missing = [line for line in significant if line not in summary]
     assert missing == []

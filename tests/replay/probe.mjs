@@ -2,6 +2,8 @@
 // of tests/replay/test_browser.py check: console errors, CSP violations, roles shown at given
 // times, a real click on a module and on an event, and (optionally) frame times and a screenshot.
 //   node probe.mjs PAGE.html '{"times":[...], "module": 3, "event": 12, "frames": 0, "shot": "x.png"}'
+// With "messages": [...], the page runs as in a VS Code webview (an acquireVsCodeApi that records
+// what the page posts) and gets each message as the extension would send it.
 import { createRequire } from "node:module";
 import * as path from "node:path";
 import { pathToFileURL } from "node:url";
@@ -28,6 +30,12 @@ try {
     window.__csp = [];
     document.addEventListener("securitypolicyviolation", (e) => window.__csp.push(`${e.violatedDirective}: ${e.blockedURI}`));
   });
+  if (options.messages) {
+    await page.addInitScript(() => {
+      window.__posted = [];
+      window.acquireVsCodeApi = () => ({ postMessage: (m) => window.__posted.push(m) });
+    });
+  }
   await page.goto(pathToFileURL(path.resolve(pagePath)).href);
   await page.waitForFunction(() => document.documentElement.dataset.replayReady, null, { timeout: 30000 });
   out.ready = await page.evaluate(() => document.documentElement.dataset.replayReady);
@@ -69,6 +77,19 @@ try {
       await page.click(selector);
       out.sourcePanel = await page.evaluate(() => document.querySelector(".rr-source").textContent);
       out.currentLine = await page.evaluate(() => document.querySelector(".rr-source .rr-current")?.textContent ?? null);
+    }
+    if (options.messages) {
+      out.afterMessages = [];
+      for (const message of options.messages) {
+        out.afterMessages.push(await page.evaluate(async (m) => {
+          window.postMessage(m, "*");
+          await new Promise((resolve) => setTimeout(resolve, 50)); // the message event comes after this task
+          const heading = document.querySelector(".rr-module h3");
+          return { t: window.rdcdReplay.time(), slider: Number(document.querySelector(".rr-slider").value),
+            module: heading ? heading.textContent : null };
+        }, message));
+      }
+      out.posted = await page.evaluate(() => window.__posted);
     }
     if (options.play) {
       await page.click(".rr-play");

@@ -92,6 +92,29 @@ def test_clicking_the_detection_event_shows_the_handlers_source_line(car7: tuple
     assert result["currentLine"].rstrip("\n") == f"{line:4d}  {text}"
 
 
+def test_a_stop_of_the_debugger_moves_the_replay_in_vs_code(car7: tuple[Path, dict, dict]) -> None:
+    """The extension's {type: "rdcd/seek", t, module} (the debugger stopped there): the replay seeks
+    and opens that module's panel; anything else is ignored."""
+    page, report, _ = car7
+    ids = [m["id"] for m in report["modules"]]
+    messages = [
+        {"type": "rdcd/seek", "t": 3.25, "module": ids[2]},
+        {"type": "rdcd/seek", "t": 0, "module": None},  # the start: time only, the panel stays
+        {"type": "rdcd/seek", "t": "5", "module": ids[1]},  # malformed: ignored
+        {"type": "seek", "t": 7, "module": ids[1]},  # another message: ignored
+        {"type": "rdcd/seek", "t": 99, "module": 999},  # past the end, no such module: the end
+        {"type": "rdcd/seek", "t": 12.5, "module": ids[0]},
+    ]
+    result = probe(page, messages=messages)
+    clean(result)
+    assert result["posted"] == [{"type": "ready"}]  # seeking reveals no line in the editor
+    # (time shown, module whose panel is open): "Module 3" or "Module 0 (entry)"
+    shown = [(round(r["t"], 3), int(r["module"].split()[1])) for r in result["afterMessages"]]
+    first = ids[2]
+    assert shown == [(3.25, first), (0.0, first), (0.0, first), (0.0, first), (20.0, first), (12.5, ids[0])]
+    assert all(abs(r["slider"] - r["t"]) < 0.011 for r in result["afterMessages"])
+
+
 def test_hostile_text_stays_text(car7: tuple[Path, dict, dict], tmp_path: Path) -> None:
     _, _, data = car7
     data = json.loads(json.dumps(data))

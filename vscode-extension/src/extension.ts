@@ -32,6 +32,8 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
       }
     }),
     vscode.workspace.onDidGrantWorkspaceTrust(() => void server.restart()),
+    vscode.debug.onDidReceiveDebugSessionCustomEvent((event) => simulation.followDebugger(event)),
+    vscode.debug.onDidTerminateDebugSession((session) => simulation.debugSessionEnded(session)),
     ...registerDebugger((message) => server.outputChannel.appendLine(message)),
   );
   const pythonChanged = await onDidChangePython(() => {

@@ -1,12 +1,15 @@
 // RDCD: Simulate Current File — runs the server's rdcd.simulate and shows the result view: the
 // replay (clicking an event reveals its line in the editor) with the summary and the plot in a
 // second tab. RDCD: Open Last Replay shows a document's last run again (kept in the extension's
-// storage by ReplayStore).
+// storage by ReplayStore). While an rdcd debug session is stopped, the replay shows the same moment
+// (replayFollow.ts).
 import { randomBytes } from "node:crypto";
 import * as fs from "node:fs/promises";
 import * as path from "node:path";
 import * as vscode from "vscode";
 import { LANGUAGE_ID, type ServerManager } from "./client";
+import { DEBUG_TYPE } from "./debugConfig";
+import { parseMoment, runDifferences, seekMessage, sessionProgram, type StopMoment } from "./replayFollow";
 import { renderReplayHtml, ReplayPageError, revealedLine } from "./replayHtml";
 import { ReplayStore, sourceHash, type SavedRun } from "./replayStore";
 import { renderErrorHtml, renderReportHtml } from "./reportHtml";
@@ -17,6 +20,10 @@ export class SimulationView implements vscode.Disposable {
   /** The run the panel shows (the replay's lines are the lines of its document as simulated). */
   private shown: SavedRun | undefined;
   private readonly store: ReplayStore;
+  /** Where the last stop of an rdcd debug session was (for a replay shown while it is stopped). */
+  private stop: { readonly session: vscode.DebugSession; readonly program: string; readonly moment: StopMoment } | undefined;
+  /** The (session, run) pair last warned about being different runs: said once, not at every step. */
+  private warned: string | undefined;
 
   constructor(
     private readonly server: ServerManager,
@@ -142,6 +149,52 @@ export class SimulationView implements vscode.Disposable {
     panel.webview.html = renderReportHtml(view);
   }
 
+  /** A custom event of a debug session: after each stop of an rdcd session, the replay shows that moment. */
+  followDebugger(event: vscode.DebugSessionCustomEvent): void {
+    if (event.session.type !== DEBUG_TYPE) {
+      return;
+    }
+    const moment = parseMoment(event.event, event.body);
+    const folder = event.session.workspaceFolder?.uri.fsPath ?? vscode.workspace.workspaceFolders?.[0]?.uri.fsPath;
+    const program = sessionProgram(event.session.configuration, folder);
+    if (moment === undefined || program === undefined) {
+      return;
+    }
+    this.stop = { session: event.session, program, moment };
+    this.postMoment();
+  }
+
+  /** The debug session ended: a replay opened later starts at its beginning again. */
+  debugSessionEnded(session: vscode.DebugSession): void {
+    if (this.stop?.session.id === session.id) {
+      this.stop = undefined;
+    }
+  }
+
+  /** Tells the replay shown (if it shows a run of the debugged file) to seek to the last stop. */
+  private postMoment(): void {
+    const stop = this.stop;
+    const run = this.shown;
+    if (stop === undefined || run === undefined || this.panel === undefined) {
+      return;
+    }
+    const uri = vscode.Uri.parse(run.uri, true);
+    const shownProgram = uri.scheme === "file" ? uri.fsPath : undefined;
+    const message = seekMessage(stop.moment, stop.program, shownProgram, process.platform === "win32" || process.platform === "darwin");
+    if (message === undefined) {
+      return;
+    }
+    void this.panel.webview.postMessage(message);
+    const differences = runDifferences(stop.moment.run, run.report, run.sourceHash);
+    const pair = `${stop.session.id} ${run.replayPath ?? ""} ${run.sourceHash}`;
+    if (differences.length > 0 && this.warned !== pair) {
+      this.warned = pair;
+      const text = `RDCD: the replay is of another run than the debugged one (${differences.join("; ")}): it shows the same time of that run`;
+      this.log(text);
+      vscode.window.setStatusBarMessage(`$(warning) ${text}`, 15000);
+    }
+  }
+
   /** A message from the replay: an event was clicked; its line is shown in the document's editor. */
   private async reveal(message: unknown): Promise<void> {
     const run = this.shown;
@@ -195,6 +248,10 @@ export class SimulationView implements vscode.Disposable {
         this.shown = undefined;
       });
       panel.webview.onDidReceiveMessage((message: unknown) => {
+        if (typeof message === "object" && message !== null && (message as { type?: unknown }).type === "ready") {
+          this.postMoment(); // a replay opened while the debugger is stopped starts at that moment
+          return;
+        }
         this.reveal(message).catch((error: unknown) =>
           this.log(`could not reveal the line: ${error instanceof Error ? error.message : String(error)}`),
         );

@@ -540,8 +540,8 @@ async function runChecks(page, url, workspace) {
 }
 
 /** The debugger: a breakpoint set in the editor, F5's configuration (no launch.json), the world
- * stopped on that line with the modules as threads and the role in the Variables view, then on
- * to the end. */
+ * stopped on that line with the modules as threads and the role in the Variables view, the replay
+ * panel at the same moment, then on to the end. */
 async function checkDebugger(page) {
   await step(page, "debug-breakpoint", async () => {
     // not openFile: the Simulate panel, if still open, has the file's name in its tab too
@@ -587,6 +587,28 @@ async function checkDebugger(page) {
       const rows = await page.locator(".debug-variables .monaco-list-row").allInnerTexts();
       return rows.some((text) => /role/.test(text) && /(Left|Right)Wheel/.test(text)) ? rows : undefined;
     }, { timeout: 20000 });
+    // the Simulate panel, still open on the last run of this file (same settings, so the same run),
+    // follows the debugger: the time of the stop that the call stack shows on the stopped module
+    // ("breakpoint at t = 3.100 s"), with that module's panel open
+    let seen = "nothing";
+    const moment = await until("the replay at the stop's moment", async () => {
+      const rows = await page.locator(".debug-call-stack .monaco-list-row").allInnerTexts();
+      const stopped = rows.map((text) => /module (\d+)[\s\S]*breakpoint at t = ([\d.]+) s/i.exec(text)).find((m) => m !== null);
+      const state = await simulationView(page).locator("html").evaluate(() => ({
+        t: window.rdcdReplay.time(),
+        heading: document.querySelector(".rr-module h3")?.textContent ?? "",
+      }), undefined, { timeout: 2000 }).catch((error) => { seen = `the replay: ${error.message.slice(0, 200)}`; });
+      if (state !== undefined) {
+        seen = `stopped ${stopped ? `module ${stopped[1]} at ${stopped[2]} s` : "nowhere"}, replay at ${state.t} s, "${state.heading}"`;
+      }
+      if (stopped === undefined || stopped === null || state === undefined) {
+        return undefined;
+      }
+      const same = Math.abs(state.t - Number(stopped[2])) < 0.0006 && state.heading.startsWith(`Module ${stopped[1]}`);
+      return same ? { t: state.t, id: Number(stopped[1]) } : undefined;
+    }, { timeout: 20000 }).catch((error) => {
+      throw new Error(`${error.message}; last seen: ${seen}`);
+    });
     await shot(page, "debug-stopped");
     // the breakpoint off, on to the end of the run
     await page.locator(".monaco-editor textarea").first().focus();
@@ -598,7 +620,7 @@ async function checkDebugger(page) {
     await until("the debug session to end", async () =>
       (await page.locator(".debug-toolbar").count()) === 0 || !(await page.locator(".debug-toolbar").first().isVisible()),
     { timeout: 120000 });
-    return `threads: ${threads.slice(0, 3).join(" | ").replace(/\s+/g, " ")}; ` +
+    return `replay at t = ${moment.t.toFixed(3)} s on module ${moment.id}; threads: ${threads.slice(0, 3).join(" | ").replace(/\s+/g, " ")}; ` +
       `variables: ${variables.slice(0, 3).join(" | ").replace(/\s+/g, " ")}`;
   });
 }

@@ -108,6 +108,13 @@ class Replay {
     requestAnimationFrame(frame);
   }
 
+  // the debugger stopped at time t on module `module` (null: none): the same moment, that module shown
+  showMoment(t, module) {
+    this.seek(t);
+    if (Number.isInteger(module) && this.rec.index.has(module)) this.pick(module);
+    return { t: this.t, selected: this.selected };
+  }
+
   rolesAt() {
     return Object.fromEntries(this.scene.modules.map((m) => [m.id, this.scene.shownRoles.get(m.id) ?? null]));
   }
@@ -266,6 +273,7 @@ function hook(replay) {
     colourOf: (id) => replay.scene.colourOf(id),
     roleColour: (role) => (role === null ? NO_ROLE_COLOUR : replay.scene.roleColour.get(role) ?? NO_ROLE_COLOUR),
     pick: (id) => replay.pick(id),
+    showMoment: (t, module) => replay.showMoment(t, module ?? null),
     // {name: value} of module `id` at time t (default: the time shown); null: a role state of a
     // role it does not play then; absent: unknown (its first changes were not recorded)
     stateAt: (id, t) => replay.stateAt(id, t),
@@ -300,7 +308,14 @@ async function main() {
     const replay = new Replay(rec, ui);
     window.rdcdReplay = hook(replay);
     document.documentElement.dataset.replayReady = "true";
-    if (vscode) vscode.postMessage({ type: "ready" });
+    if (vscode) {
+      // the editor's debugger stopped: {type: "rdcd/seek", t, module} (vscode-extension/src/replayFollow.ts)
+      window.addEventListener("message", (e) => {
+        const m = e.data;
+        if (m && m.type === "rdcd/seek" && typeof m.t === "number" && Number.isFinite(m.t)) replay.showMoment(m.t, m.module);
+      });
+      vscode.postMessage({ type: "ready" });
+    }
   } catch (error) {
     const message = el("p", "rr-error", `The replay could not start: ${error && error.message ? error.message : error}`);
     document.body.prepend(message);
