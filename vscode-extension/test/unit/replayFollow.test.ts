@@ -22,7 +22,7 @@ describe("sessionProgram", () => {
   it("resolves the launch's program against its cwd", () => {
     const root = path.resolve("/ws");
     assert.equal(sessionProgram({ program: path.join(root, "a.rdcd") }), path.join(root, "a.rdcd"));
-    assert.equal(sessionProgram({ program: "examples/a.rdcd", cwd: root }), path.join(root, "examples", "a.rdcd"));
+    assert.equal(sessionProgram({ program: "robots/a.rdcd", cwd: root }), path.join(root, "robots", "a.rdcd"));
     assert.equal(sessionProgram({ program: "a.rdcd" }, root), path.join(root, "a.rdcd"));
     assert.equal(sessionProgram({ program: "" }, root), undefined);
     assert.equal(sessionProgram({ program: 3 }, root), undefined);
