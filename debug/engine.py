@@ -178,7 +178,12 @@ class Engine:
             self._cv.notify_all()
 
     def pause(self) -> None:
-        self._pause = True
+        """Stop the world at its next moment. A world that is stopped and not yet told to go on
+        has nothing to pause; one told to go on whose thread has not woken yet pauses at once."""
+        with self._cv:
+            if self.stop is not None and self._command is None:
+                return
+            self._pause = True
         self._update_special()
 
     def go_back(self, scan: Scan | None, goal: Goal | None) -> None:

@@ -430,8 +430,7 @@ class Session(Sink):
     def on_pause(self, args: dict[str, Any]) -> None:
         if self.engine is None or self.engine.run is None:
             raise RequestError("pause: nothing is running")
-        if self.engine.stop is None:
-            self.engine.pause()
+        self.engine.pause()  # the engine knows whether a continue is still on its way
 
     def on_stepBack(self, args: dict[str, Any]) -> None:  # noqa: N802
         stop = self._stopped("stepBack")

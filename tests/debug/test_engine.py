@@ -90,3 +90,28 @@ def test_back_and_forward_again_are_the_same_states(world: str, obstacle: str) -
 def _handler_slots(engine: Engine) -> list[Any]:
     assert engine.run is not None
     return [v.slot for r in engine.run.runtimes.values() for v in r.store.vectors if v is not None]
+
+
+def test_a_pause_while_stopped_does_nothing_and_one_right_after_continue_is_kept() -> None:
+    """A pause asked while the world is stopped (and not told to go on) is not kept for later: the
+    next stop is the breakpoint. A continue then a pause before the world's thread has woken
+    stops the world (the session used to drop such a pause, and the run went on to its end)."""
+    launch = prepare({"program": str(OBSTACLE), "world": "lattice", "obstacle": "none", "duration": 3000})
+    code = CodeIndex(launch.program, launch.methods)
+    sink = Stops()
+    engine = Engine(launch.program, launch.structure, launch.options, code, sink, names)
+    engine.set_breakpoints({loc: [Breakpoint(1)] for loc in code.line_locations(12)})  # startup move()
+    try:
+        engine.start(stop_on_entry=True)
+        assert sink.next().reason == "entry"
+        engine.pause()  # stopped, not told to go on: nothing to pause
+        engine.resume()
+        assert sink.next().reason == "breakpoint"
+        engine.set_breakpoints({})
+        with engine._cv:  # hold the world's thread asleep while both requests arrive
+            engine.resume()
+            engine.pause()
+        stop = sink.next()
+        assert stop.reason == "pause" and stop.time < 3000
+    finally:
+        engine.terminate()
