@@ -55,7 +55,9 @@ def local_cluster(workers: int) -> Iterator[Any]:
     from distributed import Client, LocalCluster
 
     # No dashboard: its task stream keeps a record of every task (up to 100,000), so the driver,
-    # which holds a local cluster's scheduler, would grow with the number of runs.
+    # which holds a local cluster's scheduler, would grow with the number of runs. Dask's own logs
+    # only at CRITICAL: a worker whose heartbeat meets the scheduler closing after a Ctrl-C logs an
+    # ERROR with a traceback (a failed run is the sweep's to report, and it does).
     # Ctrl-C is the driver's to handle (it stops, keeps every finished run and closes the cluster):
     # a worker that took it too would print Dask's KeyboardInterrupt traceback as it dies. Worker
     # processes inherit "ignore SIGINT" from the driver, which ignores it while the cluster starts
@@ -65,7 +67,7 @@ def local_cluster(workers: int) -> Iterator[Any]:
     with dask.config.set(DRIVER_HISTORY):
         with _sigint_ignored():
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR,
+                                   dashboard_address=None, silence_logs=logging.CRITICAL,
                                    preload=["sim.sweep.worker_signals"])
         with cluster, Client(cluster) as client:
             yield client
