@@ -415,12 +415,7 @@ class ModuleRuntime(ModuleNode):
         if any(s.kind == LOCAL and s.code == code for s in self.store.slots):
             return
         try:
-            slot = self.store.add_slot(Slot(code, self._local_id(), LOCAL))
-            try:
-                self.store.queue(Task(slot))
-            except StoreFull:
-                self.store.free_slot(slot)
-                raise
+            self.store.add_and_queue(Slot(code, self._local_id(), LOCAL))
         except StoreFull as e:
             self._error(f"RUN_LOCAL: {e}")
 

@@ -188,12 +188,7 @@ class ModuleNode:
             return True
         ctx = (*self.position, self.axis, vch) if self.position and self.axis else None
         try:
-            slot = self.store.add_slot(Slot(code, ident, PROGRAM_SLOT, ch, ctx))
-            try:
-                self.store.queue(Task(slot))
-            except StoreFull:
-                self.store.free_slot(slot)
-                raise
+            slot = self.store.add_and_queue(Slot(code, ident, PROGRAM_SLOT, ch, ctx))
         except StoreFull as e:
             self._error_once(("full", key), f"program {ident} not accepted: {e}")
             return False

@@ -70,6 +70,16 @@ class Store:
         if slot is not None and any(s is slot for s in self.slots):
             self.slots = [s for s in self.slots if s is not slot]
 
+    def add_and_queue(self, slot: Slot) -> Slot:
+        """Store ``slot`` and queue a run of it, or neither (StoreFull)."""
+        self.add_slot(slot)
+        try:
+            self.queue(Task(slot))
+        except StoreFull:
+            self.free_slot(slot)
+            raise
+        return slot
+
     def queue(self, task: Task) -> None:
         if len(self.tasks) >= QUEUE:
             raise StoreFull(f"task queue full ({QUEUE} entries)")
