@@ -13,7 +13,7 @@ from typing import Any
 from debug.code import CodeIndex
 from sim.state_report import plays
 from vm.interpreter import Frame
-from vm.isa.opcodes import USER_COMMAND_BASE
+from vm.isa.opcodes import PUBLISHED_SLOTS, USER_COMMAND_BASE
 from vm.lattice.structure import AXIS_NAMES
 from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM
 
@@ -129,7 +129,7 @@ class Inspector:
                 ("Stored programs", self.programs(runtime), False),
                 ("Task queue", self.tasks(runtime), False),
                 ("Command table", self.commands(runtime), False),
-                ("Neighbour roles", self.neighbours(runtime), False),
+                ("Neighbours", self.neighbours(runtime, run), False),
                 ("Packets in flight", self.packets(runtime, run), False)]
         return out
 
@@ -144,6 +144,7 @@ class Inspector:
             "mapping (virtual→physical)": list(runtime.mapping) if runtime.mapping else None,
             "joint angle (°)": round(angle, 3), "joint speed (°/s)": round(speed, 3),
             "LED": runtime.led,
+            "connections": self.connections(runtime, run),
             "sensors": {str(k): _sensor(runtime, k) for k in range(SENSORS)},
             "halted": runtime.halted, "programs run": runtime.programs_run, "runs": runtime.runs,
             "errors": [f"t={t:.3f} s: {m}" for t, m in runtime.errors[-20:]],
@@ -200,9 +201,41 @@ class Inspector:
                          for k, s in enumerate(entries)}
         return out
 
-    def neighbours(self, runtime: Any) -> dict[str, Any]:
-        return {f"virtual connector {v}": (runtime.roles.name(r) if r else "none")
-                for v, r in enumerate(runtime.neighbour_roles)}
+    def neighbours(self, runtime: Any, run: Any) -> dict[str, Any]:
+        """Per virtual connector: the role the neighbour last notified and the published values it
+        last sent, by state name (what the module *heard*, which is what its aggregates read; a
+        gradient is debugged by comparing these with the neighbour's own State), and which module
+        is attached there now."""
+        mapping = runtime.mapping
+        attached = run.structure.neighbours(runtime.module_id) if run is not None else {}
+        published = [e for e in getattr(getattr(run, "program", None), "states", None) or ()
+                     if e.index < PUBLISHED_SLOTS]
+        cache = getattr(runtime, "neighbour_cache", None)
+        out: dict[str, Any] = {}
+        for v, r in enumerate(runtime.neighbour_roles):
+            item: dict[str, Any] = {"role": runtime.roles.name(r) if r else "none"}
+            physical = mapping[v] if mapping else None
+            if physical is not None:
+                item["physical connector"] = physical
+                peer = attached.get(physical)
+                item["module attached"] = f"module {peer[0]} connector {peer[1]}" if peer else None
+            heard = cache[v] if cache is not None else None
+            if isinstance(heard, (list, tuple)):  # the firmware profile caches roles only
+                if published:
+                    item["heard"] = {e.name: heard[e.index] for e in published}
+                elif any(value is not None for value in heard):
+                    item["heard"] = {f"state{i}": value for i, value in enumerate(heard)
+                                     if value is not None}
+            out[f"virtual connector {v}"] = item
+        return out
+
+    def connections(self, runtime: Any, run: Any) -> list[str]:
+        """The module's latched connections now: its physical connector, the module and connector
+        on the other side."""
+        if run is None:
+            return []
+        return [f"connector {c} ↔ module {peer} connector {pc}"
+                for c, (peer, pc) in sorted(run.structure.neighbours(runtime.module_id).items())]
 
     def packets(self, runtime: Any, run: Any) -> dict[str, Any]:
         mid = runtime.module_id

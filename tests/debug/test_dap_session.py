@@ -351,6 +351,31 @@ def test_the_state_scope_names_each_state_and_the_watch_reads_it(dap: Client) ->
     dap.request("disconnect", {"terminateDebuggee": True})
 
 
+def test_the_neighbours_scope_shows_what_a_module_heard_and_the_connections(dap: Client) -> None:
+    """A gradient is debugged by seeing what a module heard: each attached neighbour's published
+    hops, by name, beside the module attached on that connector; the Module scope lists the
+    latched connections."""
+    dap.launch(GRADIENT, breakpoints=[{"line": GRADIENT_LINE, "condition": "hops < 127"}],
+               world="lattice", config="snake5", obstacle="none", duration=4)
+    stop = dap.stopped()
+    frame = top_frame(dap, stop["body"]["threadId"])
+    scopes = dap.request("scopes", {"frameId": frame["id"]})["body"]["scopes"]
+    ref = next(s["variablesReference"] for s in scopes if s["name"] == "Neighbours")
+    connectors = tree(dap, ref)
+    attached = {name: item for name, (_, item) in connectors.items()
+                if item.get("module attached", ("none", None))[0] not in ("none", "None")}
+    assert attached, connectors
+    heard = [item["heard"][1] for item in attached.values()]
+    assert all(set(values) == {"hops"} for values in heard)
+    numbers = [int(values["hops"][0]) for values in heard if values["hops"][0] not in ("none", "None")]
+    assert numbers and all(0 <= n <= 127 for n in numbers), heard
+    module_ref = next(s["variablesReference"] for s in scopes if s["name"] == "Module")
+    connections = tree(dap, module_ref)["connections"][1]
+    assert len(connections) == len(attached)
+    assert all("↔ module" in value for value, _ in connections.values())
+    dap.request("disconnect", {"terminateDebuggee": True})
+
+
 def test_the_firmware_profile_can_be_debugged(dap: Client) -> None:
     """The original profile's controller (a port of the firmware's) cannot be copied: going back
     runs again from the start. Its runtime errors stop the world, and its lines take breakpoints."""
