@@ -2,13 +2,15 @@
 ``pygments.lexers`` entry point): MkDocs (``pymdownx.highlight``), Sphinx, Jupyter and ``pygmentize``
 colour RDCD through it.
 
-Its word lists are the checker's tables, like the TextMate grammar's (docs/architecture.md rule 1):
-the keywords (``rdcd_core.syntax.keywords``, which agrees with grammar.lark), the Module API
-(``rdcd_core.module_api``), the predefined values (``rdcd_core.types``), and grammar.lark's
-punctuation and operator terminals, an operator being a symbol of ``rdcd_core.operators`` or ``:=``.
-A keyword, primitive or operator added to a table is coloured with no change here;
-tests/highlight/test_pygments_lexer.py fails when the lexer, the TextMate grammar and the tables
-disagree. What is written here is only what no table says: which token a kind of keyword is.
+Its word lists are the checker's, like the TextMate grammar's (docs/architecture.md rule 1): the
+keywords, punctuation and operators are grammar.lark's literal terminals (which the language's own
+lexer reads; ``rdcd_core.syntax.keywords`` agrees with them), an operator being a symbol of
+``rdcd_core.operators`` or ``:=``; the Module API is ``rdcd_core.module_api``'s table and the
+predefined values ``rdcd_core.types``'. A keyword, primitive or operator added there is coloured
+with no change here; tests/highlight/test_lexer_tables.py fails when the lexer, the TextMate grammar
+and the tables disagree. What is written here is only what no table says: which token a kind of
+keyword is. (grammar.lark is read as text, not through ``rdcd_core.syntax``, whose parser would
+add a fifth of a second to every documentation build.)
 
 The lexer never raises (Pygments' RegexLexer makes a one-character ``Error`` token of what no rule
 matches). Operator characters are operators even where the language has no such operator (``=``,
@@ -35,7 +37,6 @@ from pygments.token import (
 
 from rdcd_core.module_api import PRIMITIVES, CallForm
 from rdcd_core.operators import BINARY, UNARY
-from rdcd_core.syntax.keywords import KEYWORDS
 from rdcd_core.types import PREDEFINED_VALUES
 
 __all__ = ["RdcdLexer"]
@@ -71,11 +72,13 @@ def keyword_token(word: str) -> _TokenType:
     return Keyword
 
 
-def grammar_literals(text: str) -> list[str]:
-    """The literal terminals of grammar.lark (``NAME: "text"``) that are not words: its punctuation
-    and operators."""
-    found = re.findall(r'^[A-Z][A-Z0-9_]*\s*:\s*"((?:[^"\\]|\\.)*)"', text, re.M)
-    return [value.encode().decode("unicode_escape") for value in found if not re.fullmatch(NAME, value)]
+def grammar_terminals(text: str) -> tuple[list[str], list[str]]:
+    """The literal terminals of grammar.lark (``NAME: "text"``): (its keywords, its punctuation and
+    operators)."""
+    found = [value.encode().decode("unicode_escape")
+             for value in re.findall(r'^[A-Z][A-Z0-9_]*\s*:\s*"((?:[^"\\]|\\.)*)"', text, re.M)]
+    return ([value for value in found if re.fullmatch(NAME, value)],
+            [value for value in found if not re.fullmatch(NAME, value)])
 
 
 def operator_symbols() -> list[str]:
@@ -92,7 +95,7 @@ def _rules() -> dict[str, list]:
     self_primitives = [p.name for p in PRIMITIVES if p.form is CallForm.SELF]
     functions = [p.name for p in PRIMITIVES if p.form is CallForm.FUNCTION]
     operators = operator_symbols()
-    literals = grammar_literals(GRAMMAR.read_text(encoding="utf-8"))
+    keywords, literals = grammar_terminals(GRAMMAR.read_text(encoding="utf-8"))
     punctuation = sorted((s for s in literals if s not in operators), key=lambda s: (-len(s), s))
     operator_characters = {*"".join(operators), *_LIKELY_OPERATOR_CHARACTERS} - {*"".join(punctuation)}
     comments = [
@@ -101,11 +104,11 @@ def _rules() -> dict[str, list]:
         (r"/\*[\s\S]*", Comment.Multiline),  # unterminated: the language's lexer takes the rest too
     ]
     by_kind: dict[_TokenType, list[str]] = {}
-    for word in KEYWORDS:
+    for word in keywords:
         by_kind.setdefault(keyword_token(word), []).append(word)
     declarations = [
         (f"({word})({_WS})({NAME})", bygroups(keyword_token(word), Whitespace, token))
-        for word, token in DECLARES.items() if word in KEYWORDS and token is not None
+        for word, token in DECLARES.items() if word in keywords and token is not None
     ]
     root = [
         (_WS, Whitespace),

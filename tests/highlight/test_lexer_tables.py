@@ -21,7 +21,7 @@ from rdcd_core.pygments_lexer import (
     GRAMMAR,
     PSEUDO_NAMES,
     RdcdLexer,
-    grammar_literals,
+    grammar_terminals,
 )
 from rdcd_core.syntax.keywords import KEYWORDS
 from rdcd_core.syntax.tables import tables
@@ -129,8 +129,9 @@ def test_operators_equal_the_grammar_and_the_operator_table(grammar: dict[str, A
 
 
 def test_every_terminal_of_grammar_lark_is_one_token() -> None:
-    literals = grammar_literals(GRAMMAR.read_text(encoding="utf-8"))
-    assert set(literals) == set(tables().lexer.literals), "grammar_literals() misreads grammar.lark"
+    keywords, literals = grammar_terminals(GRAMMAR.read_text(encoding="utf-8"))
+    assert set(literals) == set(tables().lexer.literals), "grammar_terminals() misreads grammar.lark"
+    assert sorted(keywords) == sorted(tables().lexer.keywords) == sorted(KEYWORDS)
     operators = {*BINARY, *UNARY, ":="}
     for symbol in literals:
         assert lex(symbol) == [(Operator if symbol in operators else Punctuation, symbol)]
