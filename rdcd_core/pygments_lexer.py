@@ -37,7 +37,7 @@ from pygments.token import (
 
 from rdcd_core.module_api import PRIMITIVES, CallForm
 from rdcd_core.operators import BINARY, UNARY
-from rdcd_core.types import PREDEFINED_VALUES
+from rdcd_core.types import PREDEFINED_VALUES, Type
 
 __all__ = ["RdcdLexer"]
 
@@ -93,6 +93,9 @@ def _alternatives(names: list[str]) -> str:
 
 def _rules() -> dict[str, list]:
     self_primitives = [p.name for p in PRIMITIVES if p.form is CallForm.SELF]
+    # self.assumeRole(M, ...): a primitive whose first argument is a role names one
+    role_first = [p.name for p in PRIMITIVES if p.form is CallForm.SELF and p.params[:1]
+                  and p.params[0].type is Type.ROLE]
     functions = [p.name for p in PRIMITIVES if p.form is CallForm.FUNCTION]
     operators = operator_symbols()
     keywords, literals = grammar_terminals(GRAMMAR.read_text(encoding="utf-8"))
@@ -116,6 +119,9 @@ def _rules() -> dict[str, list]:
         *declarations,
         (rf"(deployment)({_SPACE})(\{{)", bygroups(keyword_token("deployment"), Whitespace, Punctuation),
          "deployment"),
+        *([(rf"(self)({_SPACE})(\.)({_SPACE})({_alternatives(role_first)})({_SPACE})(\()({_SPACE})({NAME})",
+             bygroups(Name.Builtin.Pseudo, Whitespace, Punctuation, Whitespace, Name.Builtin, Whitespace,
+                      Punctuation, Whitespace, Name.Class))] if role_first else []),
         (rf"(self)({_SPACE})(\.)({_SPACE})({_alternatives(self_primitives)}){_END}",
          bygroups(Name.Builtin.Pseudo, Whitespace, Punctuation, Whitespace, Name.Builtin)),
         (rf"(self)({_SPACE})(\.)({_SPACE})({NAME})",

@@ -146,11 +146,13 @@ def test_an_operator_no_table_has_yet_is_still_an_operator(symbol: str) -> None:
 
 def test_declarations_colour_the_name_they_declare() -> None:
     program = ("abstract role Wheel extends Base { constant SPEED := 3; travelling state hops := 0;"
-               " startup go() { Base.stop(); } } role M modifies Wheel { } deployment { Wheel, M }")
+               " startup go() { Base.stop(); self.assumeRole(M, { }); } } role M modifies Wheel { }"
+               " deployment { Wheel, M }")
     tokens = lex(program)
     assert (Name.Class, "Wheel") in tokens and (Name.Class, "Base") in tokens
     assert (Name.Constant, "SPEED") in tokens and (Name.Variable, "hops") in tokens
     assert (Name.Function, "go") in tokens and (Name.Function, "stop") in tokens
+    assert tokens[tokens.index((Name.Builtin, "assumeRole")) + 2] == (Name.Class, "M")
     assert tokens[-5:] == [(Punctuation, "{"), (Name.Class, "Wheel"), (Punctuation, ","), (Name.Class, "M"),
                            (Punctuation, "}")]
     assert [v for t, v in tokens if t in Keyword] == ["abstract", "role", "extends", "constant", "travelling",
