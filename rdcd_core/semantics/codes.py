@@ -13,7 +13,7 @@ _E, _W = Severity.ERROR, Severity.WARNING
 # ----------------------------------------------------------------------------- E1xx roles
 INTERNAL_ERROR = define_code(
     "E100", _E, "internal error of the checker",
-    "(no program triggers it: it reports a bug in rdcd instead of a traceback)")
+    "// no program triggers it: it reports a bug in rdcd instead of a traceback")
 DUPLICATE_ROLE = define_code(
     "E101", _E, "duplicate role name",
     "role A { }\nrole A { }\ndeployment { A }")

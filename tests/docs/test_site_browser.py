@@ -1,6 +1,8 @@
 """The documentation site, built with `mkdocs build --strict`, in real headless Chromium: every
-page loads over http without an error in the console or a failed request, and the site's search
-finds "assumeRole" (MkDocs' search needs http: its index is fetched by a web worker).
+page loads over http without an error in the console, a failed request or a request to another
+host (the site reads offline), the site's search finds "assumeRole" (MkDocs' search needs http:
+its index is fetched by a web worker), and the State page's RDCD is coloured (its keywords drawn
+in another colour than plain text: pymdownx.highlight with rdcd_core/pygments_lexer.py).
 
 Needs mkdocs (pip install -e '.[docs]'), node, Chromium and playwright-core (the replay viewer's
 node modules, `npm ci` in sim/replay/viewer). Without them it skips with the reason, unless
@@ -71,22 +73,29 @@ class _Quiet(http.server.SimpleHTTPRequestHandler):
         pass
 
 
-def _probe(base: str, pages: list[str], query: str) -> dict:
+def _probe(base: str, pages: list[str], query: str, highlight_page: str = "") -> dict:
     env = {**os.environ, "RDCD_NODE_MODULES": str(VIEWER / "node_modules")}
-    done = subprocess.run(["node", str(PROBE), base, json.dumps(pages), query], capture_output=True,
-                          text=True,
-                          timeout=600, env=env)
+    done = subprocess.run(["node", str(PROBE), base, json.dumps(pages), query, highlight_page],
+                          capture_output=True, text=True, timeout=600, env=env)
     assert done.returncode == 0, done.stderr[-3000:]
     return json.loads(done.stdout)
 
 
-def test_every_page_loads_cleanly_and_search_finds_assume_role(site: tuple[str, list[str]]) -> None:
+@pytest.fixture(scope="module")
+def probed(site: tuple[str, list[str]]) -> dict:
+    """One pass of the browser over the whole site (it is slow): pages, search, the State page's colours."""
     base, pages = site
+    return _probe(base, pages, "assumeRole", "state/index.html")
+
+
+def test_every_page_loads_cleanly_and_search_finds_assume_role(site: tuple[str, list[str]],
+                                                               probed: dict) -> None:
+    _, pages = site
     names = ("getting-started", "tutorial", "language", "module-api", "diagnostics", "vm", "instructions",
              "cli", "simulator", "sweeps", "replay", "editor", "architecture", "benchmarks")
     expected = {"index.html", *(f"{name}/index.html" for name in names)}
     assert expected <= set(pages)
-    result = _probe(base, pages, "assumeRole")
+    result = probed
     for page in pages:
         shown = result["pages"][page]
         assert shown["status"] == 200 and shown["errors"] == [], (page, shown)
@@ -96,6 +105,20 @@ def test_every_page_loads_cleanly_and_search_finds_assume_role(site: tuple[str, 
     count = int(search["meta"].split()[0])
     assert count >= 2, search["meta"]
     assert any("/language/" in href and "assumerole" in href for href in search["results"]), search["results"]
+
+
+def test_the_rdcd_on_the_state_page_is_coloured(probed: dict) -> None:
+    """The gradient on the State page: `state`, `role`, `behavior` and `deployment` are keyword spans
+    (Pygments' k/kd classes) drawn in a colour of their own, and `self.x` a built-in."""
+    shown = probed["highlight"]
+    assert shown["blocks"] >= 1, shown
+    plain = shown["plain"]
+    keywords = {s["text"]: s["color"] for s in shown["spans"] if set(s["cls"].split()) & {"k", "kd"}}
+    assert {"state", "role", "behavior", "deployment"} <= set(keywords), shown["spans"]
+    assert all(color != plain for color in keywords.values()), (plain, keywords)
+    builtins = {s["text"]: s["color"] for s in shown["spans"] if "nb" in s["cls"].split()}
+    assert "x" in builtins and builtins["x"] != plain, (plain, builtins)
+    assert not any("err" in s["cls"].split() for s in shown["spans"]), shown["spans"]
 
 
 def test_a_page_that_is_missing_is_reported(site: tuple[str, list[str]]) -> None:
