@@ -17,6 +17,7 @@ from vm.isa.opcodes import AGGREGATES, WHERE_ALL, WHERE_CHILDREN, WHERE_CONNECTO
 COORDS = {"x": "X", "y": "Y", "z": "Z"}
 AXIS_OPS = {PREDEFINED_VALUES[name].code: f"CENTER_POSITION_{short}"  # axis code -> its test
             for name, short in (("EAST_WEST", "EW"), ("NORTH_SOUTH", "NS"), ("UP_DOWN", "UD"))}
+ARITHMETIC = {"+": "ADD", "-": "SUB", "*": "MUL", "/": "DIV", "%": "MOD"}  # saturating, vm.isa.opcodes
 MIRROR = {"<": ">", ">": "<", "<=": ">=", ">=": "<=", "==": "==", "!=": "!="}
 
 
@@ -52,10 +53,10 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         value(expr.operand, ctx, out)
         ctx.need("NEGATE", expr.span, "the value of a negated expression needs")
         emit(out, "NEGATE", span=expr.span)
-    elif isinstance(expr, ast.Binary) and expr.op in "+-":
+    elif isinstance(expr, ast.Binary) and expr.op in ARITHMETIC:
         value(expr.left, ctx, out)
         value(expr.right, ctx, out)
-        op = "ADD" if expr.op == "+" else "SUB"
+        op = ARITHMETIC[expr.op]
         ctx.ext(op, expr.span)
         emit(out, op, span=expr.span)
     elif isinstance(expr, ast.Binary) and expr.op in ("<", ">"):
