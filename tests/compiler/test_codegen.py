@@ -155,7 +155,8 @@ def test_speed_known_only_at_run_time_uses_turn_stack(compile_text):
 
     program = compile_text("role A { startup s() { self.turnContinuously(self.y()); } }\ndeployment { A }")
     assert program.diagnostics == [] and "TURN_STACK" in ops(program) and "APPLY" not in ops(program)
-    firmware = compile_text("role A { startup s() { self.turnContinuously(sizeof(self.total_connected())); } }\n"
+    firmware = compile_text("role A { startup s() {\n"
+                            "  self.turnContinuously(sizeof(self.total_connected())); } }\n"
                             "deployment { A }", target="original")
     assert not firmware.has_errors and "APPLY" in ops(firmware) and "TURN_STACK" not in ops(firmware)
     for y, expected in ((3, (1, 3)), (-2, (2, 2)), (0, (3, 0))):

@@ -70,7 +70,8 @@ CASES: list[tuple[str, int, str, str]] = [
     ("E210", 1, "35", "role A { startup s() { self.turnTowards(35); } }\ndeployment { A }"),
     ("E210", 2, "k", "role A { constant k := 5;\n startup s() { self.turnDegrees(k); } }\ndeployment { A }"),
     ("E211", 1, "-128", "role A { startup s() { self.turnContinuously(-128); } }\ndeployment { A }"),
-    ("E211", 2, "n", "role A { constant n := -1;\n startup s() { self.sleepWhileTurning(n); } }\ndeployment { A }"),
+    ("E211", 2, "n",
+     "role A { constant n := -1;\n startup s() { self.sleepWhileTurning(n); } }\ndeployment { A }"),
     ("E212", 2, "0", "state a := 5;\nrole A { startup s() { a := a / 0; } }\ndeployment { A }"),
     ("E212", 1, "(k - 2)", "role A { constant k := 2; self.x() % (k - 2) > 0; }\ndeployment { A }"),
     # ---- methods, calls, blocks
