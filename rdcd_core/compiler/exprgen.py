@@ -53,6 +53,8 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         value(expr.operand, ctx, out)
         ctx.need("NEGATE", expr.span, "the value of a negated expression needs")
         emit(out, "NEGATE", span=expr.span)
+    elif isinstance(expr, ast.Binary) and _by_one(expr, ctx, out):
+        pass
     elif isinstance(expr, ast.Binary) and expr.op in ARITHMETIC:
         value(expr.left, ctx, out)
         value(expr.right, ctx, out)
@@ -65,6 +67,23 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         pass
     else:
         materialize(expr, ctx, out)
+
+
+def _by_one(expr: ast.Binary, ctx: Context, out: list[Item]) -> bool:
+    """``e * 1``, ``1 * e``, ``e / 1``: e; with -1: ``-e`` (NEGATE saturates as MUL and DIV do:
+    -128 gives 127). ``speed * side`` with a role's constant side costs nothing beyond ``speed``."""
+    operands = [(expr.left, expr.right)] + ([(expr.right, expr.left)] if expr.op == "*" else [])
+    if expr.op not in ("*", "/"):
+        return False
+    for operand, factor in operands:
+        folded = fold(factor, ctx)
+        if folded is None or folded.value not in (1, -1) or (folded.value < 0 and not ctx.has("NEGATE")):
+            continue
+        value(operand, ctx, out)
+        if folded.value < 0:
+            emit(out, "NEGATE", span=expr.span)
+        return True
+    return False
 
 
 def _name_value(expr: ast.NameRef, ctx: Context, out: list[Item]) -> bool:
