@@ -49,7 +49,8 @@ PROGRAMS: dict[str, str] = {
                 "else self.turnContinuously(-speed);"),
     "issue: go(speed) as speed * side": _WHEELS.replace(
         "BODY", "told := told + 1;\n    self.turnContinuously(speed * side);"),
-    "issue: behavior turnContinuously(a)": "state a := 3;\nrole R { behavior b() { self.turnContinuously(a); } }\n"
+    "issue: behavior turnContinuously(a)": "state a := 3;\n"
+                                           "role R { behavior b() { self.turnContinuously(a); } }\n"
                                            "deployment { R }\n",
     "turnTowards(v) in a command": "role R { command c(v) { self.turnTowards(v); } }\ndeployment { R }\n",
     "turnDegrees(v) in a command": "role R { command c(v) { self.turnDegrees(v); } }\ndeployment { R }\n",
@@ -92,7 +93,8 @@ def show(now: dict[str, dict[str, object]], before: dict[str, dict[str, object]]
         old = before.get(name) if before is not None else None
         if "error" in entry or (old is not None and "error" in old):
             was = f"{old.get('error') or old.get('total')}" if old is not None else ""
-            print(f"{name}: {entry.get('error') or entry.get('total')}" + (f"  (before: {was})" if was else ""))
+            now = entry.get("error") or entry.get("total")
+            print(f"{name}: {now}" + (f"  (before: {was})" if was else ""))
             if "error" in entry:
                 continue
         else:

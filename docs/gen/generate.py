@@ -61,9 +61,10 @@ def module_api_page() -> str:
         else:
             low, high, step = p.values
             rule = f"{low}..{high}" + (f", a multiple of {step}" if step != 1 else "")
-        firmware = ("branches on the sign and `APPLY`s the joint's command (a value that may be below "
-                    "0 needs `NEGATE`, which it lacks: E605)" if p.name == "turnContinuously" else "E605: the firmware takes "
-                    "the value only as an operand")
+        firmware = "E605: the firmware takes the value only as an operand"
+        if p.name == "turnContinuously":
+            firmware = ("branches on the sign and `APPLY`s the joint's command (a value that may be below "
+                        "0 needs `NEGATE`, which it lacks: E605)")
         lines.append(f"| `self.{p.name}` | {rule} | `{p.runtime_op}` | {firmware} |\n")
     lines += ["\n## Targets\n\n",
               "Every call compiles for both targets. For `--target original` (the ATRON firmware) the\n",
