@@ -170,3 +170,15 @@ def test_runtime_errors_name_module_line_and_value_and_the_module_goes_on(source
         assert not runtime.halted
         assert runtime.state[index["c"]] == 0  # the run ended at the error
         assert runtime.state[index["d"]] == 1  # the module's other programs go on
+
+
+def test_a_divisor_that_is_zero_in_some_structure_leaves_the_conflict_analysis_undecided() -> None:
+    """The checker's conflict analysis computes invariants in every local state; a divisor of 0 in
+    some of them is the VM's runtime error, not a value: no verdict, never an exception."""
+    text = ("role A { self.center_position == EAST_WEST;\n"
+            "  sizeof(self.total_connected()) / sizeof(self.connected(UP)) > 0; }\n"
+            "role B { sizeof(self.total_connected()) % sizeof(self.connected(DOWN)) == 1; }\n"
+            "deployment { A, B }\n")
+    result = check_text(text)
+    assert not result.has_errors, result.diagnostics
+    assert not compile_model(result.model, text=text).has_errors
