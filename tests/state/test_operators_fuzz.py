@@ -105,3 +105,39 @@ def test_the_checker_and_the_compiler_agree_with_the_vm_on_constants() -> None:
         index = {s.name: s.index for s in computed.states}["s"]
         initial = next(s.initial for s in constant.states if s.name == "s")
         assert {r.state[index] for r in world_computed.runtimes.values()} == {initial}, (a, op, b)
+
+
+FIRMWARE_ATOMS = ("v", "0", "1", "-1", "3", "30", "-128", "127", "sizeof(self.total_connected())")
+
+
+@st.composite
+def stateless_programs(draw: st.DrawFn) -> str:
+    """A command whose calls compute from its argument, constants and the module's connections."""
+    def expression(depth: int = 0) -> str:
+        if depth > 1 or draw(st.booleans()):
+            return draw(st.sampled_from(FIRMWARE_ATOMS))
+        return f"({expression(depth + 1)} {draw(st.sampled_from(OPS))} {expression(depth + 1)})"
+    calls = " ".join(draw(st.sampled_from(CALLS)).format(expression())
+                     + ";" for _ in range(draw(st.integers(1, 3))))
+    return f"role R {{ command c(v) {{ {calls} }} startup s() {{ R.c(2); }} }}\ndeployment {{ R }}\n"
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.one_of(programs(), stateless_programs()))
+def test_for_the_firmware_the_new_operators_are_e605_or_code_it_runs(text: str) -> None:
+    """--target original gains no instruction: a program either compiles to opcodes the firmware
+    executes, or is refused with E605 (never silently different code)."""
+    from vm.isa.disassembler import disassemble
+    from vm.isa.targets import ORIGINAL
+
+    result = check_text(text, target="original")
+    if any(d.code.startswith(("E0", "E1", "E2", "E3", "E4", "E5")) for d in result.diagnostics):
+        return
+    program = compile_model(result.model, text=text, target="original")
+    if program.has_errors:
+        assert "E605" in {d.code for d in program.diagnostics}, program.diagnostics
+        return
+    for fragment in program.fragments:
+        missing = {d.name for d in disassemble(fragment.code) if d.info is not None
+                   and not ORIGINAL.implements(d.opcode)}
+        assert not missing, (fragment.name, missing, text)
