@@ -9,6 +9,7 @@ from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
 from rdcd_core.compiler.fold import fold
 from rdcd_core.compiler.ir import Body, Ins, Item, Label
+from rdcd_core.compiler.known import known_values, literal
 from rdcd_core.compiler.roletable import application_name
 from rdcd_core.module_api import lookup_self
 from rdcd_core.syntax import ast
@@ -153,12 +154,40 @@ def _runtime_value(name: str, arg: ast.Node, ctx: Context, out: list[Item], span
         value(arg, ctx, out)
         emit(out, op, span=span)
         return True
+    table = known_values(arg, ctx)
+    allowed = lookup_self(name).values  # type: ignore[union-attr]
+    wrong = [result for _, result in table or () if allowed is not None and not (
+        allowed[0] <= result <= allowed[1] and result % allowed[2] == 0)]
+    if table is not None and wrong:
+        ctx.cannot(arg.span, f"self.{name}() would get {wrong[0]} from a value the program sends this "  # type: ignore[arg-type]
+                             f"command, outside what it takes; the {ctx.target.name} target has no "
+                             f"run-time check ({op} is the default target's)")
+        return True
+    if table is not None:  # the program sends the command only these values: one constant each
+        _table(name, table, ctx, out, span)
+        return True
     if not instead:
         ctx.cannot(arg.span, f"self.{name}() with a value known only at run time needs {op}, which the "  # type: ignore[arg-type]
                              f"{ctx.target.name} target does not run: its instruction takes the value as "
                              "an operand, written in the code; use a constant (or branch: if (v == 30) "
                              f"self.{name}(30); else ...)")
     return False
+
+
+def _table(name: str, table: list[tuple[int, int]], ctx: Context, out: list[Item], span: object) -> None:
+    """For a target without the stack instruction: compare the command's argument with each value
+    the program sends it (ascending; the last needs no test) and run the primitive with that
+    value's constant. ``if (v > k) next; primitive(f(k)); goto end; next: ...``."""
+    end = Label("end")
+    parameter = ast.NameRef(ast.Name(ctx.argument, span), span)  # type: ignore[arg-type]
+    for sent, result in table[:-1]:
+        later = Label("next")
+        cjump(ast.Binary(">", parameter, literal(sent, span), span, span), later, True, ctx, out)  # type: ignore[arg-type]
+        PRIMITIVE_CODE[name]((literal(result, span),), ctx, out, span)
+        emit(out, "GOTO", end, span=span)
+        out.append(later)
+    PRIMITIVE_CODE[name]((literal(table[-1][1], span),), ctx, out, span)
+    out.append(end)
 
 
 def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object) -> None:

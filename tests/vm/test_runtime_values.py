@@ -182,3 +182,47 @@ def test_a_divisor_that_is_zero_in_some_structure_leaves_the_conflict_analysis_u
     result = check_text(text)
     assert not result.has_errors, result.diagnostics
     assert not compile_model(result.model, text=text).has_errors
+
+
+# ---- --target original: a table of the values the program sends ------------------------------
+TABLE = ("role R {\n  self.x() > 0;\n"
+         "  command go(v) { self.turnTowards(v * 10); self.turnContinuously(-v); }\n"
+         "  startup s() { R.go(3); R.go(-2); } }\ndeployment { R }\n")
+
+
+def _command_body(program) -> bytes:  # noqa: ANN001
+    from vm.isa.disassembler import disassemble
+
+    for fragment in program.fragments:
+        for d in disassemble(fragment.code):
+            if d.name == "INSTALL_COMMAND":
+                start, size = d.operands[2], d.operands[3]
+                return bytes(fragment.code[start:start + size])
+    raise AssertionError("no command body")
+
+
+def test_the_firmware_gets_a_table_of_the_values_the_program_sends() -> None:
+    from vm.isa.disassembler import disassemble
+
+    program = compiled(TABLE, target="original")
+    assert not program.has_errors, program.diagnostics
+    body = _command_body(program)
+    assert all(ORIGINAL.implements(d.opcode) for d in disassemble(body) if d.info is not None)
+    for sent, expected in ((3, [(ROTATE_TO, 3), (ROTATE_CCW, 3)]), (-2, [(ROTATE_TO, -2), (ROTATE_CW, 2)])):
+        joint = Joint()
+        assert run(Frame(body, arg=sent), joint, ORIGINAL).outcome is Outcome.TERMINATE
+        assert joint.commands == expected, (sent, joint.commands)
+    default = compiled(TABLE)  # the default target computes the value instead: no table
+    assert {"TURN_TO_STACK", "TURN_STACK"} <= {d.name for d in disassemble(_command_body(default))}
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ("R.go(-2); R.go(self.x());", "needs TURN_TO_STACK"),  # a value not known when compiling
+    ("R.go(-2); R.go(1); R.go(2); R.go(4); R.go(5);", "needs TURN_TO_STACK"),  # more than 4 values
+    ("R.go(-20);", "would get -128"),  # -20 * 10 saturates; out of range, and no check at run time
+])
+def test_without_a_small_known_set_the_firmware_says_why(change: str, words: str) -> None:
+    text = TABLE.replace("R.go(-2);", change)
+    result = check_text(text, target="original")
+    messages = [d.message for d in result.diagnostics if d.code == "E605"]
+    assert any(words in m for m in messages), result.diagnostics
