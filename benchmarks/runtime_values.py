@@ -49,6 +49,8 @@ PROGRAMS: dict[str, str] = {
                 "else self.turnContinuously(-speed);"),
     "issue: go(speed) as speed * side": _WHEELS.replace(
         "BODY", "told := told + 1;\n    self.turnContinuously(speed * side);"),
+    "go(speed) without the state": _WHEELS.replace("state told := 0;\n", "").replace(
+        "BODY", "if (side > 0) self.turnContinuously(speed); else self.turnContinuously(-speed);"),
     "issue: behavior turnContinuously(a)": "state a := 3;\n"
                                            "role R { behavior b() { self.turnContinuously(a); } }\n"
                                            "deployment { R }\n",

@@ -61,10 +61,11 @@ def module_api_page() -> str:
         else:
             low, high, step = p.values
             rule = f"{low}..{high}" + (f", a multiple of {step}" if step != 1 else "")
-        firmware = "E605: the firmware takes the value only as an operand"
+        firmware = ("a table of constants when the program sends the command at most 4 known values; "
+                    "otherwise E605: the firmware takes the value only as an operand")
         if p.name == "turnContinuously":
-            firmware = ("branches on the sign and `APPLY`s the joint's command (a value that may be below "
-                        "0 needs `NEGATE`, which it lacks: E605)")
+            firmware = ("a table of constants as for the others, or a branch on the sign around `APPLY` "
+                        "(a value that may be below 0 needs `NEGATE`, which it lacks: E605)")
         lines.append(f"| `self.{p.name}` | {rule} | `{p.runtime_op}` | {firmware} |\n")
     lines += ["\n## Targets\n\n",
               "Every call compiles for both targets. For `--target original` (the ATRON firmware) the\n",
