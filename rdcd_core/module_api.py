@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from rdcd_core.types import Type
+from vm.isa.opcodes import ANGLE_STEP, ANGLES_BY, ANGLES_TO, SPEEDS, TURNS
 
 
 class CallForm(StrEnum):
@@ -28,6 +29,10 @@ class Primitive:
     result: Type
     doc: str
     aggregate: bool = False  # also takes one argument: the neighbours' values of a state
+    # The values the (first) argument may take, (low, high, step): the checker refuses a constant
+    # outside them (E210, E211) and the VM's stack instruction a value known only at run time.
+    values: tuple[int, int, int] | None = None
+    runtime_op: str | None = None  # the instruction that takes a value known only at run time
 
     @property
     def is_query(self) -> bool:
@@ -73,14 +78,18 @@ PRIMITIVES: tuple[Primitive, ...] = (
     Primitive("connected_role", _F, (_p("d", Type.DIR), _p("R", Type.ROLE)), Type.CONNSET,
               "Connectors facing d whose neighbour plays R, a sub-role of R, or R as a mixin."),
     Primitive("turnContinuously", _S, (_p("v", Type.INT),), Type.VOID,
-              "Rotate continuously: v > 0 clockwise, v < 0 counter-clockwise, speed abs(v)."),
+              "Rotate continuously: v > 0 clockwise, v < 0 counter-clockwise, speed abs(v); v in -127..127.",
+              values=(*SPEEDS, 1), runtime_op="TURN_STACK"),
     Primitive("turnTowards", _S, (_p("deg", Type.INT),), Type.VOID,
-              "Rotate to the absolute joint angle deg: a multiple of 10 in -180..170."),
+              "Rotate to the absolute joint angle deg: a multiple of 10 in -180..170.",
+              values=(*ANGLES_TO, ANGLE_STEP), runtime_op="TURN_TO_STACK"),
     Primitive("turnDegrees", _S, (_p("deg", Type.INT),), Type.VOID,
-              "Rotate by deg degrees relative to the current angle: a multiple of 10."),
+              "Rotate by deg degrees relative to the current angle: a multiple of 10.",
+              values=(*ANGLES_BY, ANGLE_STEP), runtime_op="TURN_BY_STACK"),
     Primitive("stopTurning", _S, (), Type.VOID, "Stop the joint."),
     Primitive("sleepWhileTurning", _S, (_p("n", Type.INT),), Type.VOID,
-              "Wait until the joint has made n full turns."),
+              "Wait until the joint has made n full turns: n in 0..127.",
+              values=(*TURNS, 1), runtime_op="SLEEP_ROTATIONS_STACK"),
     Primitive("sleep", _S, (), Type.VOID, "Wait one second."),
     Primitive("handleEvent", _S, (_p("e", Type.EVENT), _p("b", Type.BLOCK)), Type.VOID,
               "Install block b as the handler of event e."),
@@ -91,7 +100,7 @@ PRIMITIVES: tuple[Primitive, ...] = (
               "Play mixin M while b runs, then return to the previous role; "
               "neighbours are notified both times."),
     Primitive("setLed", _S, (_p("v", Type.INT),), Type.VOID,
-              "Show v on the module's LEDs (debugging)."),
+              "Show v on the module's LEDs (debugging).", runtime_op="SET_LED_STACK"),
     Primitive("min", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
               "The smaller of a and b; min(neighbours.s): the smallest value of module state s that a "
               "neighbour published (127 when none has).", aggregate=True),

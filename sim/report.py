@@ -35,14 +35,27 @@ def locate(program: CompiledProgram, code: bytes, pc: int | None) -> tuple[str |
     return None, pc
 
 
+def source_line(program: CompiledProgram, fragment: str | None, pc: int | None) -> int | None:
+    """The source line of the instruction at ``pc`` of ``fragment`` (None when unknown)."""
+    if fragment is None or pc is None:
+        return None
+    entries = next((f.source_map for f in program.fragments if f.name == fragment), [])
+    line = next((e.line for e in entries if e.offset <= pc < e.offset + e.size), 0)
+    return line or None
+
+
 def _errors(program: CompiledProgram, rt: Any) -> list[dict[str, Any]]:
-    """A module's errors; those of program runs also name the fragment and the pc in it."""
+    """A module's errors; those of program runs also name the fragment, the pc in it and the
+    source line (an out-of-range value or a zero divisor says which line computed it)."""
     places = {(e.t, e.message): locate(program, e.code, e.pc) for e in getattr(rt, "run_errors", [])}
     out = []
     for t, message in rt.errors:
         entry: dict[str, Any] = {"t": round(t, 3), "message": message}
         if (t, message) in places:
             entry["fragment"], entry["pc"] = places[(t, message)]
+            line = source_line(program, entry["fragment"], entry["pc"])
+            if line is not None:
+                entry["line"] = line
         out.append(entry)
     return out
 
@@ -162,14 +175,15 @@ def _error_lines(report: dict[str, Any]) -> list[str]:
     seen: dict[tuple[Any, ...], int] = {}
     for m in report["modules"]:
         for e in m["errors"]:
-            key = (m["id"], e.get("fragment", ""), e.get("pc"), e["message"], "fragment" in e)
+            key = (m["id"], e.get("fragment", ""), e.get("pc"), e["message"], "fragment" in e, e.get("line"))
             seen[key] = seen.get(key, 0) + 1
     lines = []
-    for (mid, fragment, pc, message, ran), n in list(seen.items())[:MAX_ERROR_LINES]:
+    for (mid, fragment, pc, message, ran, line), n in list(seen.items())[:MAX_ERROR_LINES]:
         times = f" (×{n})" if n > 1 else ""
         if ran:
             message = _RUN_PREFIX.sub("", message)  # the pc in it counts from a handler's own start
             where = f", fragment {fragment or '?'}, pc {pc if pc is not None else '?'}"
+            where += f", line {line}" if line is not None else ""
         else:
             where = ""
         lines.append(f"  module {mid}{where}: {message}{times}")

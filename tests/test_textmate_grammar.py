@@ -95,3 +95,15 @@ def test_grammar_is_wired_into_the_top_level(grammar: dict[str, Any]) -> None:
     assert {"#keywords", "#self-call", "#function-primitives", "#predefined-values"} <= statements
     top = {p["include"] for p in grammar["patterns"]}
     assert "#statements" in top and "#comments" in top
+
+
+def test_every_operator_of_the_table_is_coloured(grammar: dict[str, Any]) -> None:
+    """Each binary and unary operator of rdcd_core.operators (issue 25 added * / %) is matched by one
+    of the grammar's operator patterns, and '//' still begins a comment."""
+    from rdcd_core.operators import BINARY, UNARY
+
+    patterns = [re.compile(p["match"]) for p in grammar["repository"]["operators"]["patterns"]]
+    for symbol in {*BINARY, *UNARY}:
+        assert any(p.fullmatch(symbol) for p in patterns), symbol
+    comments = json.dumps(grammar["repository"].get("comments", {}))
+    assert "//" in comments or "\\\\/\\\\/" in comments

@@ -17,7 +17,23 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Protocol
 
-from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE, STATE_SLOTS, saturated, signed_byte
+from vm.isa.opcodes import (
+    ANGLE_STEP,
+    BY_OPCODE,
+    PUSH_SMALL_BASE,
+    ROTATE_CCW,
+    ROTATE_CW,
+    ROTATE_DEGREES,
+    ROTATE_TO,
+    SPEEDS,
+    STATE_SLOTS,
+    STOP,
+    TURNS,
+    divided,
+    remainder,
+    saturated,
+    signed_byte,
+)
 from vm.isa.targets import DEFAULT, Target
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
 from vm.roles import ANY_ROLE
@@ -96,7 +112,8 @@ _EQUALS = {f"EQUALS_{k}": k for k in range(5)}
 _COORDS = {"COORD_X": 0, "COORD_Y": 1, "COORD_Z": 2}
 _COMPARE = {"GREATER": lambda a, b: a > b, "LESSER": lambda a, b: a < b, "EQUALS": lambda a, b: a == b}
 _ARITH = {"ADD": lambda a, b: saturated(a + b), "SUB": lambda a, b: saturated(a - b),
-          "MIN": min, "MAX": max}
+          "MUL": lambda a, b: saturated(a * b), "MIN": min, "MAX": max}
+_DIVIDE = {"DIV": divided, "MOD": remainder}
 _COORD_CMP = {f"COORD_{c}_{cmp}": (i, cmp == "GREATER") for i, c in enumerate("XYZ")
               for cmp in ("GREATER", "LESSER")}
 _ENDINGS = {"END_TERMINATE": Outcome.TERMINATE, "END_REPEAT": Outcome.REPEAT,
@@ -199,6 +216,29 @@ def _connected_dir_sizeof(m: Machine, d: int, target: Target) -> int:
     return count.bit_count() if q.connected_dir_sizeof_popcount_of_count else count
 
 
+_JOINT_STACK = frozenset({"TURN_STACK", "TURN_TO_STACK", "TURN_BY_STACK", "SLEEP_ROTATIONS_STACK"})
+
+
+def _joint_stack(name: str, v: int, m: Machine) -> Result | None:
+    """The joint instructions that take their value from the stack (issue 25): the value in the
+    program's units, checked as the checker checks a constant; out of range is a runtime error
+    that names it (the run ends, the module goes on)."""
+    if name == "TURN_STACK":
+        if not SPEEDS[0] <= v <= SPEEDS[1]:
+            raise VMError(f"turnContinuously: speed {v} is outside {SPEEDS[0]}..{SPEEDS[1]}")
+        m.eval_command(ROTATE_CW if v > 0 else ROTATE_CCW if v < 0 else STOP, abs(v))
+    elif name == "SLEEP_ROTATIONS_STACK":
+        if not TURNS[0] <= v <= TURNS[1]:
+            raise VMError(f"sleepWhileTurning: {v} turns is outside {TURNS[0]}..{TURNS[1]}")
+        return Result(Outcome.SLEEP_ROTATIONS, turns=v)
+    else:
+        what = "turnTowards" if name == "TURN_TO_STACK" else "turnDegrees"
+        if v % ANGLE_STEP:
+            raise VMError(f"{what}: {v} degrees is not a multiple of {ANGLE_STEP}")
+        m.eval_command(ROTATE_TO if name == "TURN_TO_STACK" else ROTATE_DEGREES, v // ANGLE_STEP)
+    return None
+
+
 def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None:  # noqa: C901 - one dispatch table
     at = frame.pc
     name, op, a = _fetch(frame, target)
@@ -237,6 +277,17 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name in _ARITH:
         b = _pop(frame)
         _push(frame, _ARITH[name](_pop(frame), b), target)
+    elif name in _DIVIDE:
+        b = _pop(frame)
+        a = _pop(frame)
+        if b == 0:
+            raise VMError(f"division by zero: {a} {'/' if name == 'DIV' else '%'} 0")
+        _push(frame, _DIVIDE[name](a, b), target)
+    elif name in _JOINT_STACK:
+        frame.at = at
+        result = _joint_stack(name, _pop(frame), m)
+        if result is not None:
+            return result
     elif name in _COORD_CMP:
         axis, greater = _COORD_CMP[name]
         value, coord = _pop(frame), m.coords()[axis]

@@ -43,7 +43,31 @@ def module_api_page() -> str:
     lines += ["\n`self.NAME()` calls the role's own plain method `NAME`: the compiler inlines it.\n",
               "A command of a role is called as `Role.NAME()` and runs on every module that plays\n",
               "the role or one of its sub-roles.\n\n",
-              "## Targets\n\n",
+              "## Values known only at run time\n\n",
+              "Every number argument may be computed: a state, a command's argument, `speed * side`.\n",
+              "A constant is checked when the program is checked (E210, E211) and compiled into the\n",
+              "instruction as an operand; on the default target a value known only at run time is\n",
+              "pushed and the instruction below pops it and checks the same range when it runs. A value\n",
+              "out of range is a runtime error of that run, reported with the module, the fragment,\n",
+              "the pc, the source line and the value ([the DCD-VM](vm.md#values-known-only-at-run-time)).\n",
+              "A byte holds -128..127, so a computed angle is a multiple of 10 in -120..120.\n\n",
+              "| call | a constant must be | a value known only at run time | on `--target original` |\n",
+              "| --- | --- | --- | --- |\n"]
+    for p in PRIMITIVES:
+        if p.runtime_op is None:
+            continue
+        if p.values is None:
+            rule = "any int"
+        else:
+            low, high, step = p.values
+            rule = f"{low}..{high}" + (f", a multiple of {step}" if step != 1 else "")
+        firmware = ("a table of constants when the program sends the command at most 4 known values; "
+                    "otherwise E605: the firmware takes the value only as an operand")
+        if p.name == "turnContinuously":
+            firmware = ("a table of constants as for the others, or a branch on the sign around `APPLY` "
+                        "(a value that may be below 0 needs `NEGATE`, which it lacks: E605)")
+        lines.append(f"| `self.{p.name}` | {rule} | `{p.runtime_op}` | {firmware} |\n")
+    lines += ["\n## Targets\n\n",
               "Every call compiles for both targets. For `--target original` (the ATRON firmware) the\n",
               "compiler replaces instructions the firmware lacks by other sequences (the coordinate\n",
               "reads, for instance); an expression that cannot be written without this project's\n",

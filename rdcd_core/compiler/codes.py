@@ -1,6 +1,9 @@
 """The diagnostic codes of the compiler: E6xx / W6xx, limits of the DCD-VM target (docs/language.md).
 
-E606 and E607 are backstops: the checker reports those programs first (E2xx-E4xx). E602 is retired.
+E604, E606 and E607 are backstops: the checker reports those programs first (E2xx-E4xx). E602 is
+retired. E604 was the error of a number known only at run time (a speed, an angle, turns); since
+issue 25 every number may be one, and only directions, events and roles must be constants: values
+of those types are always constants, so the checker's E303 comes first.
 """
 
 from __future__ import annotations
@@ -28,8 +31,8 @@ TOO_MANY_COMMANDS = define_code(
     "role C { self.x() == 0; command b() { } command c() { } command d() { } command e() { }\n"
     "  command f() { } }\ndeployment { A, B, C }")
 NOT_CONSTANT = define_code(
-    "E604", _E, "the target needs a compile-time constant here",
-    "role A { self.x() > 0; startup s() { self.sleepWhileTurning(self.y()); } }\ndeployment { A }")
+    "E604", _E, "the target needs a compile-time constant here (a direction, an event or a role)",
+    "role A { self.x() > 0; command c(e) { self.disableEvent(e); } }\ndeployment { A }")
 EXT_REFUSED = define_code(
     "E605", _E, "code needs an instruction the target does not run (e.g. --target original)",
     "// rdcd check --target original\nrole A { self.x() + self.y() > 0; }\ndeployment { A }")

@@ -36,6 +36,7 @@ class Context:
     # argument), the arguments bound to the parameters of the plain methods being inlined (each
     # with the bindings of its caller), and whether roles are re-checked when values change.
     argument: str | None = None
+    command: str | None = None  # the command whose body is being compiled (compiler.known)
     bindings: dict[str, tuple[object, dict]] = field(default_factory=dict)
     watched: bool = False
     in_body: bool = False  # code of a stored body (handler, command, behaviour): it never migrates

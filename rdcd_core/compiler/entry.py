@@ -113,12 +113,12 @@ def _shared_by_every_role(method: MethodSymbol, ctx: Context) -> bool:
 
 def _command_body(method: MethodSymbol, ctx: Context) -> Body:
     """A command's body; its parameter reads the argument the command was sent with."""
-    saved, params = ctx.argument, method.decl.params
-    ctx.argument = params[0].text if params else None
+    saved, params = (ctx.argument, ctx.command), method.decl.params
+    ctx.argument, ctx.command = (params[0].text if params else None), method.name
     try:
         return body_of(method.decl.body, ctx, "END_TERMINATE")
     finally:
-        ctx.argument = saved
+        ctx.argument, ctx.command = saved
 
 
 def _role_state_items(ctx: Context) -> list[EntryItem]:

@@ -17,6 +17,7 @@ from vm.isa.opcodes import AGGREGATES, WHERE_ALL, WHERE_CHILDREN, WHERE_CONNECTO
 COORDS = {"x": "X", "y": "Y", "z": "Z"}
 AXIS_OPS = {PREDEFINED_VALUES[name].code: f"CENTER_POSITION_{short}"  # axis code -> its test
             for name, short in (("EAST_WEST", "EW"), ("NORTH_SOUTH", "NS"), ("UP_DOWN", "UD"))}
+ARITHMETIC = {"+": "ADD", "-": "SUB", "*": "MUL", "/": "DIV", "%": "MOD"}  # saturating, vm.isa.opcodes
 MIRROR = {"<": ">", ">": "<", "<=": ">=", ">=": "<=", "==": "==", "!=": "!="}
 
 
@@ -52,10 +53,12 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         value(expr.operand, ctx, out)
         ctx.need("NEGATE", expr.span, "the value of a negated expression needs")
         emit(out, "NEGATE", span=expr.span)
-    elif isinstance(expr, ast.Binary) and expr.op in "+-":
+    elif isinstance(expr, ast.Binary) and _by_one(expr, ctx, out):
+        pass
+    elif isinstance(expr, ast.Binary) and expr.op in ARITHMETIC:
         value(expr.left, ctx, out)
         value(expr.right, ctx, out)
-        op = "ADD" if expr.op == "+" else "SUB"
+        op = ARITHMETIC[expr.op]
         ctx.ext(op, expr.span)
         emit(out, op, span=expr.span)
     elif isinstance(expr, ast.Binary) and expr.op in ("<", ">"):
@@ -64,6 +67,23 @@ def value(expr: ast.Node, ctx: Context, out: list[Item]) -> None:
         pass
     else:
         materialize(expr, ctx, out)
+
+
+def _by_one(expr: ast.Binary, ctx: Context, out: list[Item]) -> bool:
+    """``e * 1``, ``1 * e``, ``e / 1``: e; with -1: ``-e`` (NEGATE saturates as MUL and DIV do:
+    -128 gives 127). ``speed * side`` with a role's constant side costs nothing beyond ``speed``."""
+    operands = [(expr.left, expr.right)] + ([(expr.right, expr.left)] if expr.op == "*" else [])
+    if expr.op not in ("*", "/"):
+        return False
+    for operand, factor in operands:
+        folded = fold(factor, ctx)
+        if folded is None or folded.value not in (1, -1) or (folded.value < 0 and not ctx.has("NEGATE")):
+            continue
+        value(operand, ctx, out)
+        if folded.value < 0:
+            emit(out, "NEGATE", span=expr.span)
+        return True
+    return False
 
 
 def _name_value(expr: ast.NameRef, ctx: Context, out: list[Item]) -> bool:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.geometry import facing
 from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES
-from rdcd_core.operators import BINARY, UNARY
+from rdcd_core.operators import BINARY, DIVISIONS, UNARY
 from rdcd_core.semantics.model import Value
 from rdcd_core.semantics.walk import CALLS
 from rdcd_core.syntax import ast
@@ -82,8 +82,8 @@ def _eval_binary(expr: ast.Binary, ctx: Context, state: tuple[int, int] | None) 
         right = _eval(expr.right, ctx, state)
         return None if right is None else Value(Type.BOOL, int(bool(right.value)))
     right = _eval(expr.right, ctx, state)
-    if left is None or right is None:
-        return None
+    if left is None or right is None or (expr.op in DIVISIONS and right.value == 0):
+        return None  # a zero divisor is never folded: E212, or the VM's runtime error
     return Value(operator.result, operator.apply(left.value, right.value))
 
 
@@ -133,7 +133,8 @@ def _shape(expr: ast.Node, ctx: Context) -> tuple | None:
     parts: tuple = ()
     if isinstance(expr, ast.Unary):
         parts = ("unary", expr.op, local_shape(expr.operand, ctx))
-    elif isinstance(expr, ast.Binary):
+    elif isinstance(expr, ast.Binary) and (expr.op not in DIVISIONS or _nonzero(expr.right, ctx)):
+        # a divisor that is not a constant may be 0 in some state: a runtime error, not a value
         parts = ("binary", expr.op, local_shape(expr.left, ctx), local_shape(expr.right, ctx))
     elif isinstance(expr, ast.FunctionCall) and expr.name.text == "sizeof" and len(expr.args) == 1:
         parts = ("sizeof", local_shape(expr.args[0], ctx))
@@ -145,6 +146,11 @@ def _shape(expr: ast.Node, ctx: Context) -> tuple | None:
     if not parts or None in parts:  # not local, or a part is not
         return None
     return parts
+
+
+def _nonzero(expr: ast.Node, ctx: Context) -> bool:
+    folded = fold(expr, ctx)
+    return folded is not None and folded.value != 0
 
 
 def vector_of(shape: tuple, ctx: Context, states: tuple[tuple[int, int], ...]) -> list[int]:

@@ -9,7 +9,9 @@ from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
 from rdcd_core.compiler.fold import fold
 from rdcd_core.compiler.ir import Body, Ins, Item, Label
+from rdcd_core.compiler.known import known_values, literal
 from rdcd_core.compiler.roletable import application_name
+from rdcd_core.module_api import lookup_self
 from rdcd_core.syntax import ast
 from rdcd_core.syntax.builder import MAX_HEIGHT
 from vm.isa.opcodes import ROTATE_CCW, ROTATE_CW, ROTATE_DEGREES, ROTATE_TO, STOP, USER_COMMAND_BASE
@@ -141,11 +143,60 @@ def _chain(names: list[str]) -> str:
     return " -> ".join(names)
 
 
+def _runtime_value(name: str, arg: ast.Node, ctx: Context, out: list[Item], span: object,
+                   instead: str = "") -> bool:
+    """A value known only at run time for primitive ``name``: the value, then the Module API's
+    stack instruction for it (which checks its range at run time). False, with nothing emitted,
+    where the target lacks that instruction; E605 then says why unless ``instead`` names code that
+    the caller emits in its place."""
+    op = lookup_self(name).runtime_op  # type: ignore[union-attr]
+    if op is not None and ctx.has(op):
+        value(arg, ctx, out)
+        emit(out, op, span=span)
+        return True
+    table = known_values(arg, ctx)
+    allowed = lookup_self(name).values  # type: ignore[union-attr]
+    wrong = [result for _, result in table or () if allowed is not None and not (
+        allowed[0] <= result <= allowed[1] and result % allowed[2] == 0)]
+    if table is not None and wrong:
+        ctx.cannot(arg.span, f"self.{name}() would get {wrong[0]} from a value the program sends this "  # type: ignore[arg-type]
+                             f"command, outside what it takes; the {ctx.target.name} target has no "
+                             f"run-time check ({op} is the default target's)")
+        return True
+    if table is not None:  # the program sends the command only these values: one constant each
+        _table(name, table, ctx, out, span)
+        return True
+    if not instead:
+        ctx.cannot(arg.span, f"self.{name}() with a value known only at run time needs {op}, which the "  # type: ignore[arg-type]
+                             f"{ctx.target.name} target does not run: its instruction takes the value as "
+                             "an operand, written in the code; use a constant (or branch: if (v == 30) "
+                             f"self.{name}(30); else ...)")
+    return False
+
+
+def _table(name: str, table: list[tuple[int, int]], ctx: Context, out: list[Item], span: object) -> None:
+    """For a target without the stack instruction: compare the command's argument with each value
+    the program sends it (ascending; the last needs no test) and run the primitive with that
+    value's constant. ``if (v > k) next; primitive(f(k)); goto end; next: ...``."""
+    end = Label("end")
+    parameter = ast.NameRef(ast.Name(ctx.argument, span), span)  # type: ignore[arg-type]
+    for sent, result in table[:-1]:
+        later = Label("next")
+        cjump(ast.Binary(">", parameter, literal(sent, span), span, span), later, True, ctx, out)  # type: ignore[arg-type]
+        PRIMITIVE_CODE[name]((literal(result, span),), ctx, out, span)
+        emit(out, "GOTO", end, span=span)
+        out.append(later)
+    PRIMITIVE_CODE[name]((literal(table[-1][1], span),), ctx, out, span)
+    out.append(end)
+
+
 def _turn_continuously(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
     if not args:
         return
     if fold(args[0], ctx) is None:
-        _turn_by_value(args[0], ctx, out, span)
+        # the firmware has no TURN_STACK: it branches on the sign and APPLYs ROTATE_CW/CCW
+        if not _runtime_value("turnContinuously", args[0], ctx, out, span, instead="branches"):
+            _turn_by_value(args[0], ctx, out, span)
         return
     speed = const_arg(args[0], ctx, "the speed")
     if speed is None:
@@ -188,8 +239,11 @@ def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object)
     out.append(end)
 
 
-def _tens(command: int):  # type: ignore[no-untyped-def]
+def _tens(command: int, name: str):  # type: ignore[no-untyped-def]
     def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        if args and fold(args[0], ctx) is None:
+            _runtime_value(name, args[0], ctx, out, span)
+            return
         degrees = const_arg(args[0], ctx, "the angle") if args else None
         if degrees is None:
             return
@@ -205,16 +259,19 @@ def _immediate(op: str, what: str):  # type: ignore[no-untyped-def]
     return generate
 
 
-def _set_led(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
-    if not args:
-        return
-    if fold(args[0], ctx) is not None:
-        _immediate("SET_LED", "the LED value")(args, ctx, out, span)
-        return
-    value(args[0], ctx, out)  # a value known only at run time (a state, an argument)
-    ctx.need("SET_LED_STACK", args[0].span,
-             "an LED value known only at run time needs the extension instruction")
-    emit(out, "SET_LED_STACK", span=span)
+def _value_or_stack(op: str, name: str, what: str):  # type: ignore[no-untyped-def]
+    """A constant as the immediate operand of ``op``; a value known only at run time (a state,
+    an argument) through the Module API's stack instruction for ``name``."""
+    immediate = _immediate(op, what)
+
+    def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        if not args:
+            return
+        if fold(args[0], ctx) is not None:
+            immediate(args, ctx, out, span)
+        else:
+            _runtime_value(name, args[0], ctx, out, span)
+    return generate
 
 
 def _no_operand(op: str, *operands: int):  # type: ignore[no-untyped-def]
@@ -299,12 +356,12 @@ def _assume_role(args: tuple, ctx: Context, out: list[Item], span: object) -> No
 
 PRIMITIVE_CODE = {
     "turnContinuously": _turn_continuously,
-    "turnTowards": _tens(ROTATE_TO),
-    "turnDegrees": _tens(ROTATE_DEGREES),
+    "turnTowards": _tens(ROTATE_TO, "turnTowards"),
+    "turnDegrees": _tens(ROTATE_DEGREES, "turnDegrees"),
     "stopTurning": _no_operand("EVAL_COMMAND", STOP, 0),
-    "sleepWhileTurning": _immediate("SLEEP_ROTATIONS", "the number of turns"),
+    "sleepWhileTurning": _value_or_stack("SLEEP_ROTATIONS", "sleepWhileTurning", "the number of turns"),
     "sleep": _no_operand("SLEEP"),
-    "setLed": _set_led,
+    "setLed": _value_or_stack("SET_LED", "setLed", "the LED value"),
     "handleEvent": _handle_event,
     "assumeRole": _assume_role,
     **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},

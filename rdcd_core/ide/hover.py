@@ -157,7 +157,12 @@ def primitive_hover(name: str) -> str | None:
     signatures = primitive.signature
     if primitive.aggregate:
         signatures += f"\n{primitive.name}(v: values) -> {primitive.result.value}"
-    return f"```rdcd\n{signatures}\n```\n\n{primitive.doc}\n\n*Module API*"
+    runtime = ""
+    if primitive.runtime_op is not None:  # issue 25: a computed argument
+        checked = " and a value out of range is a runtime error" if primitive.values else ""
+        runtime = (f"\n\nThe argument may be computed: on the default target `{primitive.runtime_op}` "
+                   f"takes it at run time{checked}.")
+    return f"```rdcd\n{signatures}\n```\n\n{primitive.doc}{runtime}\n\n*Module API*"
 
 
 def predefined_hover(name: str) -> str | None:

@@ -199,8 +199,8 @@ def _check_args(env: Env, call: ast.SelfCall | ast.FunctionCall, primitive: Prim
             _check_extra_args(env, (arg,))
             continue
         values.append(_check_arg(env, primitive, index, arg))
-    if primitive.name in ("turnTowards", "turnDegrees") and values and values[0] is not None:
-        _check_angle(env, primitive.name, args[0], values[0].value)
+    if primitive.values is not None and values and values[0] is not None:
+        _check_range(env, primitive, args[0], values[0].value)
     return primitive.result, None
 
 
@@ -235,11 +235,19 @@ def _check_arg(env: Env, primitive: Primitive, index: int, arg: ast.Arg) -> Valu
     return value
 
 
-def _check_angle(env: Env, name: str, arg: ast.Arg, degrees: int) -> None:
-    low, high = (-180, 170) if name == "turnTowards" else (-1280, 1270)
-    if degrees % 10 != 0 or not low <= degrees <= high:
-        where = expressions.where(env, arg)
+def _check_range(env: Env, primitive: Primitive, arg: ast.Arg, value: int) -> None:
+    """A constant argument outside the values the joint takes (module_api's ``values``; the VM
+    checks a value known only at run time against the same range)."""
+    low, high, step = primitive.values  # type: ignore[misc]
+    if value % step == 0 and low <= value <= high:
+        return
+    where = expressions.where(env, arg)
+    name = primitive.name
+    if step != 1:
         span = "" if name == "turnDegrees" else f" in {low}..{high}"
         env.ctx.report(codes.BAD_ANGLE, arg.span,
-                       f"'{name}' needs a multiple of 10 degrees{span}, but this is "
-                       f"{degrees}{where}")
+                       f"'{name}' needs a multiple of {step} degrees{span}, but this is {value}{where}")
+    else:
+        what = "a speed" if name == "turnContinuously" else "a number of turns"
+        env.ctx.report(codes.BAD_JOINT_VALUE, arg.span,
+                       f"'{name}' needs {what} in {low}..{high}, but this is {value}{where}")

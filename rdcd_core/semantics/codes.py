@@ -99,6 +99,12 @@ CONSTANT_CYCLE = define_code(
 BAD_ANGLE = define_code(
     "E210", _E, "a joint angle is not a multiple of 10 in range",
     "role A { startup s() { self.turnTowards(35); } }\ndeployment { A }")
+DIVISION_BY_ZERO = define_code(
+    "E212", _E, "a division or remainder by the constant 0",
+    "state a := 5;\nrole A { startup s() { a := a / 0; } }\ndeployment { A }")
+BAD_JOINT_VALUE = define_code(
+    "E211", _E, "a joint speed or number of turns is out of range (speed -127..127, turns 0..127)",
+    "role A { startup s() { self.turnContinuously(-128); } }\ndeployment { A }")
 
 # ----------------------------------------------------------------------------- E3xx calls
 UNKNOWN_METHOD = define_code(

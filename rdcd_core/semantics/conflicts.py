@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from itertools import product
 
 from rdcd_core import diagnostics as diag
-from rdcd_core.operators import BINARY, UNARY
+from rdcd_core.operators import BINARY, DIVISIONS, UNARY
 from rdcd_core.semantics import codes
 from rdcd_core.semantics.context import Context
 from rdcd_core.semantics.model import RoleSymbol
@@ -153,6 +153,8 @@ def _combine(op: str, left: Values, right: Values) -> Values:
         for b, states_b in right.items():
             states = states_a & states_b
             if states:
+                if b == 0 and op in DIVISIONS:  # the VM's runtime error, not a value: no verdict
+                    raise _Undecidable
                 result = function(a, b)
                 out[result] = out.get(result, 0) | states
     return out

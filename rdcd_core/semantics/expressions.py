@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
-from rdcd_core.operators import BINARY, UNARY
+from rdcd_core.operators import BINARY, DIVISIONS, UNARY
 from rdcd_core.semantics import calls, codes, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
@@ -183,6 +183,10 @@ def _binary(env: Env, expr: ast.Binary) -> Result:
                        f"{_HINTS[operator.operands]}",
                        related=(diag.Related(expr.left.span, f"this is {a_type(left_type)}"),
                                 diag.Related(expr.right.span, f"this is {a_type(right_type)}")))
+        return result, None
+    if op in DIVISIONS and right is not None and right.value == 0:
+        env.ctx.report(codes.DIVISION_BY_ZERO, expr.right.span,
+                       f"'{op}' by zero{where(env, expr.right)}: the divisor is the constant 0")
         return result, None
     if left is None or right is None:
         return result, None

@@ -15,10 +15,12 @@ TOKEN_TEXT = {
     "LBRACE": "'{'", "RBRACE": "'}'", "LPAR": "'('", "RPAR": "')'", "COMMA": "','", "SEMI": "';'",
     "DOT": "'.'", "ASSIGN": "':='", "OR": "'||'", "AND": "'&&'", "EQ": "'=='", "NE": "'!='",
     "LE": "'<='", "GE": "'>='", "LT": "'<'", "GT": "'>'", "PLUS": "'+'", "MINUS": "'-'",
+    "STAR": "'*'", "SLASH": "'/'", "PERCENT": "'%'",
     "BANG": "'!'", "NAME": "a name", "INT": "a number", "$END": "the end of the file",
 }
 EXPRESSION_START = frozenset({"NAME", "INT", "SELF", "LPAR", "MINUS", "BANG", "NEIGHBOURS", "CHILDREN"})
-OPERATORS = frozenset({"OR", "AND", "EQ", "NE", "LE", "GE", "LT", "GT", "PLUS", "MINUS"})
+OPERATORS = frozenset({"OR", "AND", "EQ", "NE", "LE", "GE", "LT", "GT", "PLUS", "MINUS", "STAR", "SLASH",
+                       "PERCENT"})
 MEMBER_START = frozenset({"ABSTRACT", "CONSTANT", "STARTUP", "BEHAVIOR", "COMMAND", "STATE", "TRAVELLING"})
 _COMPARISONS = frozenset({"<", ">", "<=", ">="})
 

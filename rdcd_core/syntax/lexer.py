@@ -83,8 +83,9 @@ class Lexer:
         space = f"(?>(?:{regex['WS']})?)"
         longer = [re.escape(value) for _, value in literal if len(value) > 1]
         single = "".join(re.escape(value) for _, value in literal if len(value) == 1)
-        token = "|".join([regex["NAME"], regex["INT"], *longer, f"[{single}]", regex["LINE_COMMENT"],
-                          regex["BLOCK_COMMENT"], r"/\*(?:.|\n)*", r"[^ \t\f\r\n]"])
+        # comments before the one-character punctuation: '/' is an operator, '//' and '/*' are not
+        token = "|".join([regex["NAME"], regex["INT"], *longer, regex["LINE_COMMENT"],
+                          regex["BLOCK_COMMENT"], r"/\*(?:.|\n)*", f"[{single}]", r"[^ \t\f\r\n]"])
         self.scanner = re.compile(f"({space})({token})", re.ASCII)
         if self.scanner.groups != 2:
             raise ValueError("the regular expressions of grammar.lark's terminals must not capture: "

@@ -149,11 +149,16 @@ class Recorder:
         return lambda *args: 0
 
 
-def test_speed_known_only_at_run_time_uses_apply(compile_text):
+def test_speed_known_only_at_run_time_uses_turn_stack(compile_text):
+    """The default target pops the speed (TURN_STACK, issue 25); the firmware branches and APPLYs."""
     from vm.interpreter import Frame, run
 
     program = compile_text("role A { startup s() { self.turnContinuously(self.y()); } }\ndeployment { A }")
-    assert program.diagnostics == [] and "APPLY" in ops(program)
+    assert program.diagnostics == [] and "TURN_STACK" in ops(program) and "APPLY" not in ops(program)
+    firmware = compile_text("role A { startup s() {\n"
+                            "  self.turnContinuously(sizeof(self.total_connected())); } }\n"
+                            "deployment { A }", target="original")
+    assert not firmware.has_errors and "APPLY" in ops(firmware) and "TURN_STACK" not in ops(firmware)
     for y, expected in ((3, (1, 3)), (-2, (2, 2)), (0, (3, 0))):
         module = Recorder(y)
         run(Frame(program.fragments[0].code), module)

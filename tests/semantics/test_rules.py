@@ -69,6 +69,11 @@ CASES: list[tuple[str, int, str, str]] = [
     ("E209", 1, "a", "role A { constant a := b; constant b := a; }\ndeployment { A }"),
     ("E210", 1, "35", "role A { startup s() { self.turnTowards(35); } }\ndeployment { A }"),
     ("E210", 2, "k", "role A { constant k := 5;\n startup s() { self.turnDegrees(k); } }\ndeployment { A }"),
+    ("E211", 1, "-128", "role A { startup s() { self.turnContinuously(-128); } }\ndeployment { A }"),
+    ("E211", 2, "n",
+     "role A { constant n := -1;\n startup s() { self.sleepWhileTurning(n); } }\ndeployment { A }"),
+    ("E212", 2, "0", "state a := 5;\nrole A { startup s() { a := a / 0; } }\ndeployment { A }"),
+    ("E212", 1, "(k - 2)", "role A { constant k := 2; self.x() % (k - 2) > 0; }\ndeployment { A }"),
     # ---- methods, calls, blocks
     ("E301", 1, "turnContinuosly", "role A { startup s() { self.turnContinuosly(1); } }\ndeployment { A }"),
     ("E301", 2, "hepl", "role A { help() { }\n startup s() { self.hepl(); } }\ndeployment { A }"),

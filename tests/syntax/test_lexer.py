@@ -16,7 +16,7 @@ def test_keywords_agree_with_keywords_py() -> None:
 
 
 def test_punctuation_and_operators_of_the_spec() -> None:
-    spec = "{ } ( ) , ; . := || && == != < > <= >= + - !".split()
+    spec = "{ } ( ) , ; . := || && == != < > <= >= + - * / % !".split()
     assert set(tables().lexer.literals) == set(spec)
 
 

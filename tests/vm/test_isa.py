@@ -96,7 +96,7 @@ def test_verifier_accepts(text: str) -> None:
 REJECT = [
     (b"", "empty"),
     (bytes([0]), "unknown opcode 0"),
-    (bytes([72, 13]), "unknown opcode 72"),
+    (bytes([126, 13]), "unknown opcode 126"),
     (bytes([16]), "missing operands"),
     (bytes([16, 9]), "outside"),
     (bytes([54, 1, 16, 1]), "not on an instruction boundary"),

@@ -143,6 +143,26 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
     _i(71, "STORE_DATA", (), 1, 0,
        "pop v; the running program carries v from now on, to the modules it migrates to (no-op if it "
        "carries no value)", ext=True),
+    # Values known only at run time reach the joint (issue 25): each pops its argument, in the units
+    # the program writes (a speed, degrees, turns), and checks it as the checker checks a constant.
+    _i(72, "TURN_STACK", (), 1, 0,
+       "pop v; turn continuously: v > 0 clockwise at speed v, v < 0 counter-clockwise at speed -v, "
+       "0 stops the joint; v = -128 is a runtime error (speeds are -127..127)", ext=True),
+    _i(73, "TURN_TO_STACK", (), 1, 0,
+       "pop d; rotate to the absolute joint angle d degrees; a runtime error unless d is a multiple "
+       "of 10 (a byte holds -120..120 of the -180..170 a constant may name)", ext=True),
+    _i(74, "TURN_BY_STACK", (), 1, 0,
+       "pop d; rotate by d degrees from the current angle; a runtime error unless d is a multiple "
+       "of 10", ext=True),
+    _i(75, "SLEEP_ROTATIONS_STACK", (), 1, 0,
+       "pop n; wait until the joint has made n full turns; a runtime error if n < 0", ext=True),
+    _i(76, "MUL", (), 2, 1, "pop b, pop a; push a * b (saturated to -128..127)", ext=True),
+    _i(77, "DIV", (), 2, 1,
+       "pop b, pop a; push a / b rounded toward zero (saturated: -128 / -1 is 127); b = 0 is a "
+       "runtime error", ext=True),
+    _i(78, "MOD", (), 2, 1,
+       "pop b, pop a; push a % b = a - b * (a / b), with the sign of a; b = 0 is a runtime error",
+       ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -170,6 +190,18 @@ def saturated(value: int) -> int:
     return -128 if value < -128 else 127 if value > 127 else value
 
 
+def divided(a: int, b: int) -> int:
+    """DIV: ``a / b`` rounded toward zero, as C does, saturated (-128 / -1 is 127). ``b`` != 0."""
+    quotient = abs(a) // abs(b)
+    return saturated(quotient if (a < 0) == (b < 0) else -quotient)
+
+
+def remainder(a: int, b: int) -> int:
+    """MOD: ``a - b * (a / b)`` with DIV's rounding toward zero, so the sign is a's (-7 % 2 is -1)."""
+    quotient = abs(a) // abs(b)
+    return a - b * (quotient if (a < 0) == (b < 0) else -quotient)
+
+
 def signed_byte(value: int) -> int:
     """``value`` wrapped to the VM's values, signed bytes -128..127 (stack, operands, coordinates)."""
     return ((value + 128) & 0xFF) - 128
@@ -193,3 +225,11 @@ USER_COMMAND_BASE = 128
 USER_COMMANDS = 5  # entries in a role's command table
 USER_COMMAND_NUMBERS = range(USER_COMMAND_BASE, USER_COMMAND_BASE + USER_COMMANDS)
 COMMANDS = frozenset(BUILTIN_COMMANDS) | frozenset(USER_COMMAND_NUMBERS)
+
+# What the joint accepts, checked by the checker for a constant (E210, E211) and by TURN_STACK,
+# TURN_TO_STACK, TURN_BY_STACK and SLEEP_ROTATIONS_STACK for a value known only at run time.
+SPEEDS = (-127, 127)  # turnContinuously: -128 has no opposite speed (-(-128) saturates to 127)
+ANGLES_TO = (-180, 170)  # turnTowards: a multiple of 10 (ANGLE_STEP)
+ANGLES_BY = (-1280, 1270)  # turnDegrees: a multiple of 10, the operand of ROTATE_DEGREES in tens
+ANGLE_STEP = 10
+TURNS = (0, 127)  # sleepWhileTurning
