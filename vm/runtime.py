@@ -8,7 +8,8 @@ A world creates ``ModuleRuntime(hal, role_table, module_id=...)`` per module, ca
 the optional hook ``on_event(kind, detail)`` (for the story of a run with code locations, attach a
 ``vm.observer.RuntimeObserver`` as ``observer`` instead); kinds: "role", "handler" (an event handler fired: a
 detection), "command" (a command executed here), "program" (a program stored and queued),
-"error", "trace" (ACTIVATE_DEBUG).
+"error", "trace" (ACTIVATE_DEBUG), "links" (the module's connections changed: connectors lost and
+gained; what follows is ``vm.runtime_shape``).
 
 Packets, diffusion and their fault tolerance (docs/vm.md) are the module's network side,
 ``vm.runtime_node.ModuleNode``; this module adds the scheduler and the ``vm.interpreter.Machine``
@@ -218,7 +219,9 @@ class ModuleRuntime(ShapeNode):
         elif result.outcome in (Outcome.ERROR, Outcome.HALT):
             self._run_error(task, result)
         self.store.release_after_run(slot)
-        if slot is not None and slot.kind == RERUN:
+        if slot is not None and slot.kind == PROGRAM_SLOT:
+            self._keep(slot)
+        elif slot is not None and slot.kind == RERUN:
             self._round_next()
 
     def _run_error(self, task: Task, result: Result) -> None:

@@ -111,6 +111,7 @@ class ModuleNode:
         self._notify_seq: dict[int, int] = {}  # physical channel → last notify id
         self._reported: set[object] = set()
         self._next_inject_id = 1
+        self._arrivals = 0  # programs accepted
         self._next_local_id = self.rng.randrange(256)
 
     # ---- world interface -------------------------------------------------------------------
@@ -196,7 +197,7 @@ class ModuleNode:
             self._error_once(("full", key), f"program {ident} not accepted: {e}")
             return False
         self._seen_programs.add(key)
-        self._keep(ident, code)
+        slot.arrival, self._arrivals = self._arrivals, self._arrivals + 1
         if self.parent_channel is None and ch is not None:  # the tree: who first brought a program
             self.parent_channel = ch
         self._log("program", {"id": ident, "size": len(code)})
@@ -223,6 +224,7 @@ class ModuleNode:
         if self.neighbour_roles[v] != p.role:
             self.neighbour_roles[v] = p.role
             self._values_changed()
+            self._neighbour_role_changed()
 
     def _accept_value(self, p: ValuePacket, ch: int) -> None:
         key = (ch, p.index)
@@ -241,8 +243,8 @@ class ModuleNode:
     def _values_changed(self) -> None:
         """A state or a neighbour's value changed: programs waiting in END_WAIT run again."""
 
-    def _keep(self, ident: int, code: bytes) -> None:
-        """A program was accepted (``vm.runtime_shape`` keeps a copy for modules attached later)."""
+    def _neighbour_role_changed(self) -> None:
+        """A neighbour announced another role (``vm.runtime_shape`` checks roles that read it)."""
 
     def _frame_learned(self) -> None:
         """The first packet gave the module its coordinates (``vm.runtime_shape``)."""

@@ -2,8 +2,9 @@
 project's VM does when its connections change (``hal.connected_channels()``), whether by its own
 action, a neighbour's or from outside.
 
-- It keeps a copy of every program it accepted (``kept``, in arrival order, at most
-  ``KEPT_PROGRAMS``), and offers them on every connector that becomes attached: a module that
+- It keeps a copy of every program it accepted once the program's first run has ended (``kept``,
+  in arrival order, at most ``KEPT_PROGRAMS``), and offers them on every connector that becomes
+  attached: a module that
   arrives without a program receives them as over the first diffusion (acknowledged, retransmitted,
   and run once: a module that already has them acknowledges the copies and runs nothing).
 - It tells a new neighbour its role (a notify on the new connector) and forgets the role and
@@ -18,7 +19,9 @@ action, a neighbour's or from outside.
   one that finds another role ends what the module runs for its old role (its behaviours and
   command runs, its event handlers) and then, after the fragment that took the new role, runs the
   programs that test a role (the continuation fragments with the rest of the role's entry code); a
-  round in which no role holds leaves the module without a role.
+  round in which no role holds leaves the module without a role. The same round runs when a
+  neighbour announces another role and the discovery fragments read neighbour roles, once no
+  program's first run is going on at the module.
 - Coordinates: a module whose connections have all changed at once (it left the part it was
   attached to, and is alone or attached elsewhere) forgets its coordinates and orientation and
   learns them again from the next packet that arrives, exactly as a module learns them the first
@@ -37,6 +40,7 @@ from vm.isa.disassembler import disassemble, reachable
 from vm.isa.opcodes import PUBLISHED_SLOTS
 from vm.packets import NOTIFY, PROGRAM, header_bytes, make_header
 from vm.runtime_node import ModuleNode
+from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 from vm.runtime_store import RERUN, USER_COMMAND, Slot, StoreFull
 
 KEPT_PROGRAMS = 16
@@ -48,13 +52,17 @@ class Kept:
     code: bytes
     takes_role: bool  # SET_ROLE_NOTIFY outside a stored body: a discovery fragment
     tests_role: bool  # HAS_ROLE of a role outside a stored body: a continuation fragment
+    reads_roles: bool  # CONNECTED_..._ROLE outside a stored body: invariants that read neighbour roles
+    arrival: int = 0
 
 
-def kept(ident: int, code: bytes) -> Kept:
+def kept(ident: int, code: bytes, arrival: int = 0) -> Kept:
     top = reachable(code)
     names = [(d.name, d.operands) for d in disassemble(code) if d.offset in top]
     return Kept(ident, code, any(name == "SET_ROLE_NOTIFY" for name, _ in names),
-                any(name == "HAS_ROLE" and ops and ops[0] != 0 for name, ops in names))
+                any(name == "HAS_ROLE" and ops and ops[0] != 0 for name, ops in names),
+                any(name.startswith("CONNECTED_") and name.endswith("ROLE") for name, _ in names),
+                arrival)
 
 
 @dataclass(eq=False)
@@ -84,12 +92,19 @@ class ShapeNode(ModuleNode):
         self._relearn: frozenset[int] = frozenset()  # connectors whose next packet gives the frame
 
     # ---- what the node calls ----------------------------------------------------------------
-    def _keep(self, ident: int, code: bytes) -> None:
-        if len(self.kept) < KEPT_PROGRAMS:
-            self.kept.append(kept(ident, code))
-        else:
-            self._error_once("kept", f"more than {KEPT_PROGRAMS} programs: program {ident} is not "
-                                     "kept for modules attached later")
+    def _keep(self, slot: Slot) -> None:
+        """A received or injected program's first run ended: keep it, in arrival order (kept only
+        then, so that a round never runs a program whose first run is still going on)."""
+        if len(self.kept) < KEPT_PROGRAMS:  # later ones (a handler spreading, say) are not kept
+            self.kept.append(kept(slot.ident, slot.code, slot.arrival))
+            self.kept.sort(key=lambda k: k.arrival)
+
+    def _neighbour_role_changed(self) -> None:
+        """Invariants that read neighbour roles are checked again, once the programs that arrived
+        have run (a round never runs beside a program's first run)."""
+        if any(k.takes_role and k.reads_roles for k in self.kept) and not any(
+                t.slot is not None and t.slot.kind == PROGRAM_SLOT for t in self.store.tasks):
+            self._start_round()
 
     def _frame_learned(self) -> None:
         if self._loose:  # attached again and told where it is: an ordinary module again

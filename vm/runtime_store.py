@@ -31,6 +31,7 @@ class Slot:
     refs: int = 0  # command-table entries pointing here
     started: bool = False  # has run at least once
     role: int = 0  # a handler: the role the module played when it installed it (vm.runtime_shape)
+    arrival: int = 0  # a program: how many programs the module accepted before it
 
 
 @dataclass(eq=False)

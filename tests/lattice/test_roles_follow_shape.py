@@ -128,6 +128,35 @@ def test_a_module_that_loses_a_neighbour_takes_the_role_its_shape_gives(text: st
         assert Counter(world.roles_by_name().values()) == CARS["car11"], link
 
 
+NEAR = " + ".join(f"sizeof(connected_role({d}, Wheel))" for d in ("UP", "DOWN", "EAST", "WEST",
+                                                                   "NORTH", "SOUTH"))
+OBSERVING = f"role Wheel {{ {WHEEL} }}\nrole Near {{ {NEAR} > 0; }}\nrole Other {{ }}\n" \
+    "deployment { Wheel, Near, Other }\n"
+
+
+def test_a_neighbours_new_role_is_heard_and_checked() -> None:
+    """A module whose own connections do not change, but whose neighbour becomes a Wheel (or stops
+    being one) when that neighbour loses a link, checks its roles again (connected_role)."""
+    world, _ = world_with(OBSERVING, "car11")
+
+    def want() -> dict[int, str]:
+        simple = expected(world)
+        ports = world.network._ports  # noqa: SLF001
+        return {mid: role if role == "Wheel" else
+                "Near" if any(simple[b] == "Wheel" for b, _ in ports[mid].values()) else "Other"
+                for mid, role in simple.items()}
+
+    assert world.roles_by_name() == want()
+    for link in [(a, pa, b, pb) for a, ports in world.network._ports.items()  # noqa: SLF001
+                 for pa, (b, pb) in sorted(ports.items()) if a < b]:
+        set_link(world, link, False)
+        world.advance(6.0)
+        assert world.roles_by_name() == want(), link
+        set_link(world, link, True)
+        world.advance(6.0)
+        assert world.roles_by_name() == want(), link
+
+
 @pytest.mark.parametrize("text", [STATELESS, STATEFUL], ids=["stateless", "stateful"])
 @pytest.mark.parametrize("loss", [0.0, 0.2])
 def test_a_module_attached_later_receives_the_programs_and_takes_its_role(text: str, loss: float) -> None:
