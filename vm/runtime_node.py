@@ -165,7 +165,7 @@ class ModuleNode:
             return
         if self.position is None or self._teaches(ch):
             self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
-            self._frame_learned()
+            self._frame_learned(ch)
         if isinstance(p, ProgramPacket):
             if self._accept_program(p.code, h.id, ch, h.vch):
                 self.link.send_ack(ch, raw)
@@ -246,8 +246,8 @@ class ModuleNode:
     def _neighbour_role_changed(self) -> None:
         """A neighbour announced another role (``vm.runtime_shape`` checks roles that read it)."""
 
-    def _frame_learned(self) -> None:
-        """The first packet gave the module its coordinates (``vm.runtime_shape``)."""
+    def _frame_learned(self, ch: int) -> None:
+        """A packet on ``ch`` gave the module its coordinates (``vm.runtime_shape``)."""
 
     def _teaches(self, ch: int) -> bool:
         """Whether a packet arriving on ``ch`` gives a module that has a frame a new one."""

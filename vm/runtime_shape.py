@@ -39,7 +39,7 @@ from vm import navigation as nav
 from vm.isa.disassembler import disassemble, reachable
 from vm.isa.opcodes import PUBLISHED_SLOTS
 from vm.packets import NOTIFY, PROGRAM, header_bytes, make_header
-from vm.runtime_node import ModuleNode
+from vm.runtime_node import MAX_LOG, ModuleNode
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 from vm.runtime_store import RERUN, USER_COMMAND, Slot, StoreFull
 
@@ -82,7 +82,7 @@ class ShapeNode(ModuleNode):
     def __init__(self, *args, **kwargs) -> None:  # noqa: ANN002, ANN003 - ModuleNode's
         super().__init__(*args, **kwargs)
         self.kept: list[Kept] = []
-        self.links: frozenset[int] = frozenset(self.hal.connected_channels())
+        self.links = frozenset(c for c in self.hal.connected_channels() if 0 <= c <= 7)
         self.link_changes: list[tuple[float, frozenset[int], frozenset[int]]] = []  # (t, lost, gained)
         self.rounds = 0
         self._round: Round | None = None
@@ -106,9 +106,10 @@ class ShapeNode(ModuleNode):
                 t.slot is not None and t.slot.kind == PROGRAM_SLOT for t in self.store.tasks):
             self._start_round()
 
-    def _frame_learned(self) -> None:
+    def _frame_learned(self, ch: int) -> None:
         if self._loose:  # attached again and told where it is: an ordinary module again
             self._loose, self._relearn, self._announce = False, frozenset(), True
+            self.parent_channel = ch
         if self._announce:
             self._announce = False
             if self.role:
@@ -128,6 +129,9 @@ class ShapeNode(ModuleNode):
         old, self.links = self.links, now
         lost, gained = old - now, now - old
         self.link_changes.append((self.hal.now(), lost, gained))
+        del self.link_changes[:-MAX_LOG]
+        if self.parent_channel in lost:  # the tree: a new neighbour there is not its parent
+            self.parent_channel = None
         self._log("links", {"lost": sorted(lost), "gained": sorted(gained)})
         for ch in lost | gained:  # a new neighbour counts its notifies and values afresh
             self._notify_seq.pop(ch, None)
