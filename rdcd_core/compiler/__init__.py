@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic codes)
+from rdcd_core.compiler.chain import spare_numbers
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import invariants, role_mask
 from rdcd_core.compiler.entry import assign_command_numbers
@@ -61,7 +62,7 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     travelling = next((s for s in model.states.values() if s.travelling), None)
     trailer = bytes((DATA_OPCODE, travelling.initial & 0xFF)) if travelling is not None else b""
     planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue,
-                   trailer)
+                   trailer, spare_numbers(model, commands))
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
