@@ -13,6 +13,7 @@ from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic co
 from rdcd_core.compiler.chain import spare_numbers
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import invariants, role_mask
+from rdcd_core.compiler.early import early_commands
 from rdcd_core.compiler.entry import assign_command_numbers
 from rdcd_core.compiler.ir import Ins, Item
 from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit
@@ -66,6 +67,8 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
+    if chosen.quirks.firmware_controller:  # the firmware drops a command it has no code for
+        found.extend(early_commands(planner.traffic, table.entries, chosen.name))
     found.extend(program_limit(model, chosen.program_slots))
     found.extend(mixin_methods(model))
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code

@@ -22,6 +22,7 @@ from rdcd_core.compiler.discovery import (
     reads_state,
     watched_code,
 )
+from rdcd_core.compiler.early import Traffic, traffic_of
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
@@ -29,6 +30,10 @@ from rdcd_core.compiler.peephole import optimise
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
+
+# what an over-budget fragment means on the robot (and in both worlds, which enforce the limit)
+_NOT_RECEIVED = ("the robot would not receive it (a packet over the IR limit is not sent; the "
+                 "simulator does not send it either);")
 
 # What a trial fragment's code is made of: its kind, its roles and the identities of their entry
 # items (alive while planning). Code made twice from one makeup is the same code.
@@ -48,6 +53,7 @@ class Planner:
     spares: Spares | None = None  # command numbers for the parts of split commands (chain)
     # the statement that alone does not fit, of an item that could not be split (by id of the item)
     culprits: dict[int, ast.Stmt] = field(default_factory=dict)
+    traffic: list[Traffic] = field(default_factory=list)  # of each fragment: commands sent, installed
 
     # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
     # its last successful trial, made again, and that is not optimised a second time
@@ -84,6 +90,7 @@ class Planner:
         role = roles[0] if len(roles) == 1 else None
         self.fragments.append(Fragment(unique, kind, role, blob, entries, span, roles=list(roles),
                                        methods=list(dict.fromkeys(methods))))
+        self.traffic.append(traffic_of(code, {self.ctxs[r].table.id_of(r) or 0 for r in roles}))
         if len(blob) > self.budget + len(carried):
             self._over_budget(unique, len(blob), span, culprit)
 
@@ -107,13 +114,13 @@ class Planner:
                 codes.OVER_BUDGET, culprit.span,
                 f"fragment {name} is {size} bytes, over the packet budget of {self.budget} program "
                 "bytes, and could not be split: this statement alone does not fit a fragment; "
-                "simplify it or make it several statements",
+                f"{_NOT_RECEIVED} simplify it or make it several statements",
                 related=(diag.Related(span, "the code the fragment holds"),) if span != culprit.span else ()))
         else:
             self.diagnostics.append(diag.make(
                 codes.OVER_BUDGET, span,
                 f"fragment {name} is {size} bytes, over the packet budget of {self.budget} program "
-                "bytes, and could not be split; simplify this code"))
+                f"bytes, and could not be split; {_NOT_RECEIVED} simplify this code"))
 
 
 def depends_on(ctx: Context, others: list[str]) -> bool:
