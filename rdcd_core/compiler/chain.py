@@ -70,9 +70,11 @@ class Culprit:
     stmt: ast.Stmt | None
 
 
-def split_method(item: EntryItem, ctx: Context, spares: Spares, fits: Fits) -> list[EntryItem] | Culprit:
+def split_method(item: EntryItem, ctx: Context, spares: Spares,
+                 fits: Fits) -> tuple[list[EntryItem], dict[int, ast.Stmt]] | Culprit:
     """``item`` (a command or behaviour that does not fit a fragment alone) as a chain of items,
-    last part first; a ``Culprit`` when it cannot be split."""
+    last part first, with the statements that alone do not fit (by id of the item holding one:
+    it is over the budget); a ``Culprit`` when it cannot be split."""
     method = item.symbol
     if method is None or item.kind not in ("command", "behavior") or ctx.watched:
         return Culprit(None)
@@ -82,39 +84,47 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares, fits: Fits) -> l
     if len(stmts) < 2:
         return Culprit(stmts[0] if stmts else None)
     parts: list[list[ast.Stmt]] = []
+    alone: list[int] = []  # indexes of parts that are one statement too large for a fragment
     rest = stmts
     taken: list[int] = []
     while rest:
         first = not parts
         k = len(rest) - 1 if first else len(rest)  # the first part alone is the unsplit body
         while k > 0:
-            more = k < len(rest)
-            trial = _part_item(item, ctx, rest[:k], first, more, 0, 0)
+            trial = _part_item(item, ctx, rest[:k], first, k < len(rest), 0, 0)
             if trial is not None and fits(trial):
                 break
             k -= 1
-        if k == 0:
-            for number in taken:
-                spares.give_back(ctx.role, number)
-            return Culprit(rest[0])
+        if k == 0:  # this statement does not fit alone: a part of its own, over the budget
+            if _part_item(item, ctx, rest[:1], first, len(rest) > 1, 0, 0) is None:
+                return _give_back(spares, ctx.role, taken)
+            alone.append(len(parts))
+            k = 1
         parts.append(rest[:k])
         rest = rest[k:]
         if rest:
             number = spares.take(ctx.role)
             if number is None:
-                for n in taken:
-                    spares.give_back(ctx.role, n)
-                return Culprit(None)
+                return _give_back(spares, ctx.role, taken)
             taken.append(number)
     numbers = [item.number, *(USER_COMMAND_BASE + n for n in taken)]
     items = []
+    culprits: dict[int, ast.Stmt] = {}
     for index, part in enumerate(parts):
         more = index + 1 < len(parts)
         following = numbers[index + 1] if more else numbers[0]
         made = _part_item(item, ctx, part, index == 0, more, numbers[index], following)
         assert made is not None  # it was made for the trial
         items.append(made)
-    return list(reversed(items))
+        if index in alone:
+            culprits[id(made)] = part[0]
+    return list(reversed(items)), culprits
+
+
+def _give_back(spares: Spares, role: str, taken: list[int]) -> Culprit:
+    for number in taken:
+        spares.give_back(role, number)
+    return Culprit(None)
 
 
 def _flat(stmts: list[ast.Stmt]) -> list[ast.Stmt]:

@@ -281,4 +281,6 @@ def _chain(planner: Planner, ctx: Context, item: EntryItem) -> list[EntryItem]:
         if made.stmt is not None:
             planner.culprits[id(item)] = made.stmt
         return [item]
-    return made
+    items, culprits = made
+    planner.culprits.update(culprits)
+    return items

@@ -8,11 +8,13 @@ second mistake. Such diagnostics are dropped: those whose range overlaps the inn
 member around a syntax error (for an ``if``, only its header: its branches are checked as usual).
 
 Two more kinds of consequence. Recovery may drop a declaration (``constant # := EAST;``), and then
-every use of it is "unknown" or "not defined": when a syntax error lies outside every method body,
-the checker's diagnostics of something missing (``MISSING``) are dropped in the whole program, as
-they may all be consequences; with any syntax error, "never used/read" warnings are dropped (a use
-may have been lost). And within one statement or member only the first syntax error is kept: a bad
-character that replaced a ``)`` is one mistake, not also a missing ``)`` at the ``;``.
+every use of it is "unknown" or "not defined": when a syntax error lies where recovery dropped a
+member (outside the members that survived and the method bodies), the checker's diagnostics of
+something missing (``MISSING``; of a missing role only for an error outside every role's members)
+are dropped in the whole program, as they may all be consequences; with any syntax error, "never
+used/read" warnings are dropped (a use may have been lost). And within one statement or member
+only the first syntax error is kept: a bad character that replaced a ``)`` is one mistake, not
+also a missing ``)`` at the ``;``.
 """
 
 from __future__ import annotations
@@ -32,11 +34,24 @@ MISSING = frozenset({"E102", "E105", "E110", "E201", "E208", "E301", "E306", "E3
 UNUSED = frozenset({"W504", "W702"})  # a lost use causes them
 
 
-def declaration_error(program: ast.Program, errors: list[diag.Diagnostic]) -> bool:
-    """Whether a syntax error lies outside every method body (where a declaration may be lost)."""
+ROLE_LEVEL = frozenset({"E102", "E105", "E208", "E501"})  # a lost role declaration causes them
+
+
+def lost_declarations(program: ast.Program, errors: list[diag.Diagnostic]) -> frozenset[str]:
+    """The codes of ``MISSING`` that may follow from a declaration recovery dropped: a syntax error
+    outside every member that survived (a member's own error leaves the member declared) and
+    outside method bodies; role-level codes only for one outside every role's members."""
+    members = [m.span for role in program.roles for m in role.members]
     bodies = [node.body.span for node in ast.walk(program)
               if isinstance(node, ast.MethodDecl) and node.body is not None]
-    return any(not any(b.start <= e.span.start < b.end for b in bodies) for e in errors)
+    drop: frozenset[str] = frozenset()
+    for error in errors:
+        at = error.span.start
+        if any(s.start <= at < s.end for s in members) or any(b.start <= at < b.end for b in bodies):
+            continue
+        in_role = any(r.header_span.end <= at < r.span.end for r in program.roles)
+        drop |= MISSING - ROLE_LEVEL if in_role else MISSING
+    return drop
 
 
 def first_per_range(syntax: list[diag.Diagnostic], ranges: list[Span | None]) -> list[diag.Diagnostic]:
@@ -93,5 +108,5 @@ def one_error_per_mistake(program: ast.Program, syntax: list[diag.Diagnostic],
     if not errors:
         return [*syntax, *checker]
     ranges = broken_ranges(program, syntax)
-    drop = UNUSED | (MISSING if declaration_error(program, errors) else frozenset())
+    drop = UNUSED | lost_declarations(program, errors)
     return [*first_per_range(syntax, ranges), *without_consequences(checker, ranges, drop)]
