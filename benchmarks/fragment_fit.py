@@ -44,7 +44,8 @@ ISSUE = {
     "chain: show command": _WHEEL.format(member=(
         "command show(v) { self.setLed(v); self.sleep(); self.setLed(1); self.turnTowards(30); "
         "self.sleep(); self.setLed(2); self.turnTowards(-30); self.sleep(); self.setLed(3); "
-        "self.turnTowards(0); self.sleep(); self.setLed(0); told := told + v; }")),
+        "self.turnTowards(0); self.sleep(); self.setLed(4); self.turnTowards(90); self.sleep(); "
+        "self.setLed(0); told := told + v; }")),
     "chain: statement too large alone": _WHEEL.format(member=(
         "command go(speed) { told := told + 1; self.setLed(told); self.turnContinuously(speed); "
         "self.sleep(); self.setLed(0); self.turnContinuously(-speed); self.sleep(); self.stopTurning(); }")),

@@ -249,7 +249,7 @@ class ModuleRuntime(ModuleNode):
                     self.store.queue(Task(slot, arg=arg, command=command))
                 except StoreFull as e:
                     self._error(f"user command {command - USER_COMMAND_BASE} not run: {e}")
-            elif self._holds:  # its code has not arrived yet (vm.runtime_hold)
+            elif self._holds and self.role != 0:  # its code has not arrived yet (vm.runtime_hold)
                 self._hold(self.role, command, arg)
         else:
             self._error(f"unknown command {command}")

@@ -89,12 +89,17 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares,
     taken: list[int] = []
     while rest:
         first = not parts
-        k = len(rest) - 1 if first else len(rest)  # the first part alone is the unsplit body
-        while k > 0:
-            trial = _part_item(item, ctx, rest[:k], first, k < len(rest), 0, 0)
-            if trial is not None and fits(trial):
+        if len(parts) > len(spares.free):  # more parts than numbers: do not even try
+            return _give_back(spares, ctx.role, taken)
+        # the longest run of statements that fits, grown one statement at a time (a part is
+        # small, so this stays linear in the body); the first part alone is the unsplit body
+        limit = len(rest) - 1 if first else len(rest)
+        k = 0
+        while k < limit:
+            trial = _part_item(item, ctx, rest[:k + 1], first, k + 1 < len(rest), 0, 0)
+            if trial is None or not fits(trial):
                 break
-            k -= 1
+            k += 1
         if k == 0:  # this statement does not fit alone: a part of its own, over the budget
             if _part_item(item, ctx, rest[:1], first, len(rest) > 1, 0, 0) is None:
                 return _give_back(spares, ctx.role, taken)
