@@ -22,11 +22,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from rdcd_core.compiler.context import Context
-from rdcd_core.compiler.entry import EntryItem, behaviour_numbers, methods_of
+from rdcd_core.compiler.entry import EntryItem, behaviour_numbers
 from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item, Label
 from rdcd_core.compiler.stmtgen import statements
-from rdcd_core.semantics.model import MethodSymbol, Model
+from rdcd_core.semantics.model import Model
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import USER_COMMAND_BASE, USER_COMMANDS
 
@@ -83,6 +83,11 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares,
         return Culprit(None)
     if len(stmts) < 2:
         return Culprit(stmts[0] if stmts else None)
+    params = method.decl.params
+    argument = params[0].text if params and item.kind == "command" else None
+    reads = [False] * (len(stmts) + 1)  # reads[i]: statements i.. read the command's argument
+    for i in range(len(stmts) - 1, -1, -1):
+        reads[i] = reads[i + 1] or _reads([stmts[i]], argument)
     parts: list[list[ast.Stmt]] = []
     alone: list[int] = []  # indexes of parts that are one statement too large for a fragment
     rest = stmts
@@ -96,12 +101,14 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares,
         limit = len(rest) - 1 if first else len(rest)
         k = 0
         while k < limit:
-            trial = _part_item(item, ctx, rest[:k + 1], first, k + 1 < len(rest), 0, 0)
+            at = len(stmts) - len(rest) + k + 1  # where the rest after this trial starts
+            trial = _part_item(item, ctx, rest[:k + 1], first, k + 1 < len(rest), 0, 0, reads[at])
             if trial is None or not fits(trial):
                 break
             k += 1
         if k == 0:  # this statement does not fit alone: a part of its own, over the budget
-            if _part_item(item, ctx, rest[:1], first, len(rest) > 1, 0, 0) is None:
+            at = len(stmts) - len(rest) + 1
+            if _part_item(item, ctx, rest[:1], first, len(rest) > 1, 0, 0, reads[at]) is None:
                 return _give_back(spares, ctx.role, taken)
             alone.append(len(parts))
             k = 1
@@ -115,10 +122,12 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares,
     numbers = [item.number, *(USER_COMMAND_BASE + n for n in taken)]
     items = []
     culprits: dict[int, ast.Stmt] = {}
+    at = 0
     for index, part in enumerate(parts):
         more = index + 1 < len(parts)
         following = numbers[index + 1] if more else numbers[0]
-        made = _part_item(item, ctx, part, index == 0, more, numbers[index], following)
+        at += len(part)
+        made = _part_item(item, ctx, part, index == 0, more, numbers[index], following, reads[at])
         assert made is not None  # it was made for the trial
         items.append(made)
         if index in alone:
@@ -149,9 +158,10 @@ def _reads(stmts: list[ast.Stmt], name: str | None) -> bool:
 
 
 def _part_item(item: EntryItem, ctx: Context, part: list[ast.Stmt], first: bool, more: bool,
-               number: int, following: int) -> EntryItem | None:
-    """The entry item installing ``part`` as command ``number``; None if the target cannot pass
-    the argument on."""
+               number: int, following: int, rest_reads: bool) -> EntryItem | None:
+    """The entry item installing ``part`` as command ``number``, then running ``following`` (with
+    the argument when the statements after the part read it: ``rest_reads``); None if the target
+    cannot pass the argument on."""
     method = item.symbol
     assert method is not None
     params = method.decl.params
@@ -168,7 +178,7 @@ def _part_item(item: EntryItem, ctx: Context, part: list[ast.Stmt], first: bool,
             emit(body, "IF_FALSE_GOTO", end, span=method.decl.name.span)
         statements(part, ctx, body)
         span = part[-1].span
-        rest_reads = argument is not None and more and _reads(_rest_of(method, part), argument)
+        rest_reads = rest_reads and more
         if item.kind == "behavior" or more:
             if rest_reads:
                 if not ctx.has("EVAL_COMMAND_STACK_ARG"):
@@ -193,10 +203,4 @@ def _part_item(item: EntryItem, ctx: Context, part: list[ast.Stmt], first: bool,
     return EntryItem(item.kind, code, span, item.method)
 
 
-def _rest_of(method: MethodSymbol, part: list[ast.Stmt]) -> list[ast.Stmt]:
-    stmts = _flat(list(method.decl.body.statements))
-    last = next(i for i, s in enumerate(stmts) if s is part[-1])
-    return stmts[last + 1:]
-
-
-__all__ = ["Culprit", "Spares", "methods_of", "spare_numbers", "split_method"]
+__all__ = ["Culprit", "Spares", "spare_numbers", "split_method"]
