@@ -108,7 +108,7 @@ class Planner:
             self.diagnostics.append(diag.make(
                 codes.FRAGMENT_TOO_LARGE, span,
                 f"fragment {name} is {size} bytes, more than the {MAX_PROGRAM_BYTES} bytes of a "
-                "program slot; split this code into smaller methods or statements"))
+                f"program slot; {_NOT_RECEIVED} split this code into smaller methods or statements"))
         elif culprit is not None:
             self.diagnostics.append(diag.make(
                 codes.OVER_BUDGET, culprit.span,
