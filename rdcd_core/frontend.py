@@ -16,6 +16,7 @@ from rdcd_core.semantics.codes import INTERNAL_ERROR
 from rdcd_core.semantics.model import Model
 from rdcd_core.source import LineIndex, Span
 from rdcd_core.syntax import ast
+from rdcd_core.syntax.consequences import one_error_per_mistake
 from rdcd_core.syntax.parser import ParseResult, parse
 
 
@@ -60,12 +61,15 @@ def _check(text: str, packet_budget: int, previous: ParseResult | None,
         return CheckResult(text, empty, Model(empty, {}, [], []), [_internal(error, "parsing")])
     result = CheckResult(text, parsed.program, Model(parsed.program, {}, [], []),
                          list(parsed.diagnostics), parsed=parsed)
+    syntax = result.diagnostics
     try:
         result.model = analyze(parsed.program)
     except Exception as error:  # a bug must not take the editor or the CLI down
         result.diagnostics.append(_internal(error, "semantic analysis"))
         return _sorted(result)
-    result.diagnostics.extend(result.model.diagnostics)
+    # one error per mistake: what the checker finds in a statement recovery repaired is a
+    # consequence of the syntax error (rdcd_core.syntax.consequences)
+    result.diagnostics = one_error_per_mistake(parsed.program, syntax, result.model.diagnostics)
     if not result.has_errors:
         result.diagnostics.extend(_target_diagnostics(result, packet_budget, target))
     return _sorted(result)

@@ -100,7 +100,8 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
         "modules": modules,
         **state_report.report_fields(program, modules, options.duration),
         "fragments": [{"name": f.name, "size": f.size} for f in program.fragments],
-        "messages": {k: run.counters.get(k, 0) for k in ("sent", "delivered", "dropped")},
+        "messages": {k: run.counters.get(k, 0) for k in ("sent", "delivered", "dropped")}
+        | {"not_sent_over_limit": run.counters.get("oversize", 0)},
         "events": run.events,
         "trajectory": tracking.trajectory if tracking else [],
         "obstacles": [{"kind": b.kind, "x": b.x, "y": b.y, "w": b.w, "l": b.l} for b in run.boxes],
@@ -138,6 +139,7 @@ def summary(report: dict[str, Any]) -> str:
         f"fragments: {len(report['fragments'])}, {total} bytes ({sizes})",
         f"messages: {report['messages']['sent']} sent, {report['messages']['delivered']} delivered, "
         f"{report['messages']['dropped']} dropped",
+        *_not_sent_lines(report),
         f"obstacle detections: {report['obstacle_detections']}",
         *state_report.summary_lines(report),
     ]
@@ -155,6 +157,19 @@ def summary(report: dict[str, Any]) -> str:
         lines += _error_lines(report)
     lines.append(f"real-time factor: {report['real_time_factor']}× ({report['wall_time_s']:.1f} s wall)")
     return "\n".join(lines)
+
+
+def _not_sent_lines(report: dict[str, Any]) -> list[str]:
+    """Packets over the IR packet limit: the robot's links would not carry them (docs/vm.md)."""
+    events = [e for e in report["events"] if e["kind"] == "packet_not_sent"]
+    if not events:
+        return []
+    first = events[0]
+    detail = first["detail"]
+    tries = report["messages"].get("not_sent_over_limit", len(events))
+    return [f"not sent, over the {detail['limit']}-byte IR packet limit: {tries} packets (tries included), "
+            f"the first at {first['t']:g} s by module {first['module']}, a {detail['type']} packet of "
+            f"{detail['bytes']} bytes; the ATRON would not receive it"]
 
 
 def _vm(report: dict[str, Any]) -> str:

@@ -18,6 +18,7 @@ from sim.obstacles import Box, parse_obstacle
 from sim.report import build_report
 from vm.isa.targets import TARGETS
 from vm.lattice.structure import Structure
+from vm.packets import PACKET_BUDGET, TYPE_NAMES
 from vm.roles import RoleTable
 
 Progress = Callable[[float, float], None]  # (simulated seconds done, total)
@@ -102,6 +103,22 @@ def _lattice_cells(boxes: list[Box], structure: Structure) -> frozenset[tuple[in
     return frozenset(cells)
 
 
+def _oversize_recorder(events: list[dict[str, Any]]) -> Callable:
+    """An event for each packet a module could not send because it is over the IR packet limit
+    (once per module and packet: the VM's retries of it are counted by the network only)."""
+    seen: set[tuple[int, bytes]] = set()
+
+    def record(now: float, source: int, physical: int, packet: bytes) -> None:
+        key = (source, packet[:1] + packet[7:])  # the header's id and coordinates vary per send
+        if key in seen:
+            return
+        seen.add(key)
+        events.append({"t": round(now, 3), "module": source, "kind": "packet_not_sent",
+                       "detail": {"type": TYPE_NAMES.get(packet[0], str(packet[0])), "bytes": len(packet),
+                                  "limit": PACKET_BUDGET, "connector": physical}})
+    return record
+
+
 class Run:
     """One simulation, advanced piece by piece: the one run loop of ``simulate``, sweeps, replays
     and the debugger (``debug``). Building it makes the world, attaches the recorders and injects
@@ -181,6 +198,7 @@ class Run:
         """Record the story of the run (for the report) from this run's world into ``events``;
         again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
         world, events = self.world, self.events
+        world.network.on_oversize = _oversize_recorder(events)
         if self.options.world == "lattice":
             for mid, runtime in world.runtimes.items():
                 runtime.on_event = _recorder(events, world.now, mid)

@@ -98,7 +98,8 @@ class ModuleRuntime(ShapeNode):
         return not self.halted and bool(self._inbox or self.link.outbox
                                         or any(not t.waiting for t in self.store.tasks)
                                         or (events and any(v is not None for v in self.store.vectors))
-                                        or self._lost_neighbour() or self.links_changed())
+                                        or self._lost_neighbour() or self.links_changed()
+                                        or bool(self.held))
 
     def stats(self) -> dict[str, int]:
         """Counters for reports: packets sent (with retries), retransmissions, duplicates..."""
@@ -258,6 +259,8 @@ class ModuleRuntime(ShapeNode):
                     self.store.queue(Task(slot, arg=arg, command=command))
                 except StoreFull as e:
                     self._error(f"user command {command - USER_COMMAND_BASE} not run: {e}")
+            elif self._holds and self.role != 0:  # its code has not arrived yet (vm.runtime_hold)
+                self._hold(self.role, command, arg)
         else:
             self._error(f"unknown command {command}")
 
@@ -304,6 +307,7 @@ class ModuleRuntime(ShapeNode):
             self._log("role", {"role": role, "name": self.roles.name(role)})
             if self.observer is not None:
                 self.observer.role_set(self, role, *self._where())
+            self._release_held()
         self._notify_id = (self._notify_id + 1) & 0xFF
         self._send_all(NOTIFY, self._notify_id, bytes((role & 0xFF,)), exclude=None)
 
@@ -362,6 +366,7 @@ class ModuleRuntime(ShapeNode):
             return
         for r in targets:
             self.store.set_command(r, k, slot)
+        self._release_held()
         if self.observer is not None:
             self.observer.command_installed(self, role, command, slot, *self._where())
 

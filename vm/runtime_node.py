@@ -33,7 +33,7 @@ from collections.abc import Callable
 from vm import navigation as nav
 from vm.hal import ModuleHal
 from vm.interpreter import Frame
-from vm.isa.opcodes import PUBLISHED_SLOTS, STATE_SLOTS, carried_data_offset
+from vm.isa.opcodes import PUBLISHED_SLOTS, STATE_SLOTS, USER_COMMAND_BASE, carried_data_offset
 from vm.isa.targets import DEFAULT, Target
 from vm.isa.verifier import verify
 from vm.observer import RuntimeObserver
@@ -52,6 +52,7 @@ from vm.packets import (
     unseal,
 )
 from vm.roles import RoleTable
+from vm.runtime_hold import HOLD_S, MAX_HELD, Held, HeldCommands
 from vm.runtime_link import Link
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 from vm.runtime_store import Slot, Store, StoreFull, Task
@@ -113,6 +114,10 @@ class ModuleNode:
         self._next_inject_id = 1
         self._arrivals = 0  # programs accepted
         self._next_local_id = self.rng.randrange(256)
+        # commands that came before their code or the module's role (vm.runtime_hold); the
+        # firmware drops them, this project's VM holds them
+        self.held = HeldCommands()
+        self._holds = not target.quirks.firmware_controller
 
     # ---- world interface -------------------------------------------------------------------
     def receive(self, physical_channel: int, packet: bytes) -> None:
@@ -214,6 +219,38 @@ class ModuleNode:
         self._flood_command(p.header.id, p.role, p.command, p.argument, exclude=ch)
         if self.roles.is_instance(self.role, p.role):
             self._queue_command(p.command, p.argument)
+        elif self.role == 0 and self._holds and p.command >= USER_COMMAND_BASE:
+            self._hold(p.role, p.command, p.argument)  # the module may take the role yet
+
+    def _hold(self, role: int, command: int, arg: int) -> None:
+        if self.held.hold(self.hal.now(), role, command, arg):
+            self._log("command_held", {"command": command, "arg": arg})
+        else:
+            self._error(f"user command {command - USER_COMMAND_BASE} (argument {arg}) not run: "
+                        f"{MAX_HELD} commands wait for their code already")
+
+    def _release_held(self) -> None:
+        """Queue the held commands whose code is installed for the module's role now."""
+        if not self.held:
+            return
+
+        def ready(held: Held) -> bool | None:
+            if self.role == 0:
+                return False
+            if not self.roles.is_instance(self.role, held.role):
+                return None  # not for this module
+            return self.store.command_slot(self.role, held.command - USER_COMMAND_BASE) is not None
+
+        for held in self.held.take(ready):
+            self._queue_command(held.command, held.arg)
+
+    def _expire_held(self) -> None:
+        if not self.held:
+            return
+        for held in self.held.expire(self.hal.now()):
+            if self.role != 0 and self.roles.is_instance(self.role, held.role):
+                self._error(f"user command {held.command - USER_COMMAND_BASE} (argument {held.arg}) "
+                            f"dropped: its code did not arrive within {HOLD_S:g} s")
 
     def _accept_notify(self, p: NotifyPacket, ch: int) -> None:
         last = self._notify_seq.get(ch)
@@ -291,6 +328,7 @@ class ModuleNode:
         self._p2v = nav.invert(mapping)
 
     def _expire_commands(self) -> None:
+        self._expire_held()
         now = self.hal.now()
         if self._seen_commands:
             self._seen_commands = {k: t for k, t in self._seen_commands.items() if now - t < COMMAND_MEMORY}

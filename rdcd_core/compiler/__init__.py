@@ -10,8 +10,10 @@ from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic codes)
+from rdcd_core.compiler.chain import spare_numbers
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import invariants, role_mask
+from rdcd_core.compiler.early import early_commands
 from rdcd_core.compiler.entry import assign_command_numbers
 from rdcd_core.compiler.ir import Ins, Item
 from rdcd_core.compiler.limits import command_limit, mixin_methods, program_limit
@@ -61,10 +63,12 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     travelling = next((s for s in model.states.values() if s.travelling), None)
     trailer = bytes((DATA_OPCODE, travelling.initial & 0xFF)) if travelling is not None else b""
     planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue,
-                   trailer)
+                   trailer, spare_numbers(model, commands))
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)
+    if chosen.quirks.firmware_controller:  # the firmware drops a command it has no code for
+        found.extend(early_commands(planner.traffic, table.entries, chosen.name))
     found.extend(program_limit(model, chosen.program_slots))
     found.extend(mixin_methods(model))
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code

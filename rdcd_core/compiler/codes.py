@@ -72,3 +72,10 @@ HANDLER_MISSED = define_code(
     "  startup s() { self.handleEvent(EVENT_PROXIMITY_0, { self.disableEvent(EVENT_PROXIMITY_0); }); }\n"
     "  behavior b() { self.sleep(); } }\n"
     "deployment { A }")
+EARLY_COMMAND = define_code(
+    "W606", _W, "a startup sends a command before the fragment that installs the command's code, and "
+                "the target drops it (original target; the default target holds it until the code is there)",
+    "// rdcd check --target original\n"
+    "role A { self.x() > 0; startup s() { B.go(); } }\n"
+    "role B { self.x() < 0; command go() { self.setLed(1); } }\n"
+    "deployment { A, B }")

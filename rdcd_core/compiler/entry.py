@@ -28,6 +28,15 @@ class EntryItem:
     span: Span
     method: str = ""
     stmt: ast.Stmt | None = None  # the startup statement it came from (for splitting)
+    # a command or behaviour (for splitting into a chain, rdcd_core.compiler.chain): its method,
+    # its command number, the role id it is installed for, whether a behaviour checks its role
+    # first and whether it waits for values (END_WAIT)
+    symbol: MethodSymbol | None = None
+    number: int = 0
+    install_role: int = 0
+    check: bool = False
+    reactive: bool = False
+    mixin: str = ""  # a mixin's command: the mixin whose members overlay the role's
 
 
 def assign_command_numbers(model: Model) -> dict[str, int]:
@@ -79,7 +88,8 @@ def entry_items(ctx: Context, needs_role_check: bool) -> list[EntryItem]:
         body = _command_body(method, ctx)
         code: list[Item] = []
         emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
-        items.append(EntryItem("command", code, method.decl.span, method.name))
+        items.append(EntryItem("command", code, method.decl.span, method.name, symbol=method,
+                               number=number, install_role=role_id))
     items += _mixin_commands(ctx)
     for method in methods_of(model, role, ast.MethodKind.STARTUP):
         for stmt in method.decl.body.statements:
@@ -95,7 +105,9 @@ def entry_items(ctx: Context, needs_role_check: bool) -> list[EntryItem]:
         else:
             emit(code, "INSTALL_COMMAND", role_id, number, body, span=method.decl.name.span)
             emit(code, "EVAL_COMMAND", number, 0, span=method.decl.name.span)
-        items.append(EntryItem("behavior", code, method.decl.span, method.name))
+        reactive = ctx.has("END_WAIT") and reacts_only_to_values(method.decl.body)
+        items.append(EntryItem("behavior", code, method.decl.span, method.name, symbol=method,
+                               number=number, install_role=role_id, check=check, reactive=reactive))
     return items
 
 
@@ -218,6 +230,7 @@ def _mixin_commands(ctx: Context) -> list[EntryItem]:
             body = _command_body(method, ctx)
             code: list[Item] = []
             emit(code, "INSTALL_COMMAND", applied, number, body, span=method.decl.name.span)
-            items.append(EntryItem("command", code, method.decl.span, method.name))
+            items.append(EntryItem("command", code, method.decl.span, method.name, symbol=method,
+                                   number=number, install_role=applied, mixin=mixin))
         ctx.mixins.pop()
     return items

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
+from rdcd_core.compiler.chain import Culprit, Spares, split_method
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import (
     common_prefix,
@@ -22,6 +23,7 @@ from rdcd_core.compiler.discovery import (
     reads_state,
     watched_code,
 )
+from rdcd_core.compiler.early import Traffic, traffic_of
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
@@ -30,6 +32,10 @@ from rdcd_core.compiler.priority import Guard, earlier_overlapping
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
+
+# what an over-budget fragment means on the robot (and in both worlds, which enforce the limit)
+_NOT_RECEIVED = ("the robot would not receive it (a packet over the IR limit is not sent; the "
+                 "simulator does not send it either);")
 
 # What a trial fragment's code is made of: its kind, its roles and the identities of their entry
 # items (alive while planning). Code made twice from one makeup is the same code.
@@ -48,6 +54,10 @@ class Planner:
     trailer: bytes = b""  # what the first fragment ends with: DATA, the value it carries
     deployment: list[str] = field(default_factory=list)
     waiting: set[str] = field(default_factory=set)  # roles whose discovery fragment starts with SLEEP
+    spares: Spares | None = None  # command numbers for the parts of split commands (chain)
+    # the statement that alone does not fit, of an item that could not be split (by id of the item)
+    culprits: dict[int, ast.Stmt] = field(default_factory=dict)
+    traffic: list[Traffic] = field(default_factory=list)  # of each fragment: commands sent, installed
 
     # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
     # its last successful trial, made again, and that is not optimised a second time
@@ -77,7 +87,7 @@ class Planner:
         return size_bound(code) <= self.budget or self.size(code, makeup) <= self.budget
 
     def add(self, name: str, kind: str, roles: list[str], code: list[Item], span: Span,
-            methods: list[str], makeup: Makeup | None = None) -> None:
+            methods: list[str], makeup: Makeup | None = None, culprit: ast.Stmt | None = None) -> None:
         blob, entries = assemble(self.optimise(code, makeup))
         carried = b""
         if self.trailer and not self.fragments:  # the first fragment carries the travelling value
@@ -92,20 +102,37 @@ class Planner:
         role = roles[0] if len(roles) == 1 else None
         self.fragments.append(Fragment(unique, kind, role, blob, entries, span, roles=list(roles),
                                        methods=list(dict.fromkeys(methods))))
+        self.traffic.append(traffic_of(code, {self.ctxs[r].table.id_of(r) or 0 for r in roles}))
         if len(blob) > self.budget + len(carried):
-            self._over_budget(unique, len(blob), span)
+            self._over_budget(unique, len(blob), span, culprit)
 
-    def _over_budget(self, name: str, size: int, span: Span) -> None:
+    def culprit_of(self, items: list[EntryItem]) -> ast.Stmt | None:
+        """The statement to name when a fragment of ``items`` is over the budget: the one of an
+        item that could not be split (or the item's own statement, a startup statement)."""
+        for item in items:
+            stmt = self.culprits.get(id(item), item.stmt)
+            if stmt is not None:
+                return stmt
+        return None
+
+    def _over_budget(self, name: str, size: int, span: Span, culprit: ast.Stmt | None = None) -> None:
         if size > MAX_PROGRAM_BYTES:
             self.diagnostics.append(diag.make(
                 codes.FRAGMENT_TOO_LARGE, span,
                 f"fragment {name} is {size} bytes, more than the {MAX_PROGRAM_BYTES} bytes of a "
-                "program slot; split this code into smaller methods or statements"))
+                f"program slot; {_NOT_RECEIVED} split this code into smaller methods or statements"))
+        elif culprit is not None:
+            self.diagnostics.append(diag.make(
+                codes.OVER_BUDGET, culprit.span,
+                f"fragment {name} is {size} bytes, over the packet budget of {self.budget} program "
+                "bytes, and could not be split: this statement alone does not fit a fragment; "
+                f"{_NOT_RECEIVED} simplify it or make it several statements",
+                related=(diag.Related(span, "the code the fragment holds"),) if span != culprit.span else ()))
         else:
             self.diagnostics.append(diag.make(
                 codes.OVER_BUDGET, span,
                 f"fragment {name} is {size} bytes, over the packet budget of {self.budget} program "
-                "bytes, and could not be split; simplify this code"))
+                f"bytes, and could not be split; {_NOT_RECEIVED} simplify this code"))
 
 
 def depends_on(ctx: Context, others: list[str]) -> bool:
@@ -209,13 +236,14 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
         roles = list(chunk)
         span = items[0].span.cover(items[-1].span)
         planner.add(f"{'_'.join(roles)}_{kind}", kind, roles, _chunk_code(planner, chunk), span,
-                    [item.method for item in items], _makeup("continuation", chunk))
+                    [item.method for item in items], _makeup("continuation", chunk),
+                    planner.culprit_of(items) if len(items) == 1 else None)
 
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
-         prologue: list[Item] | None = None, trailer: bytes = b"") -> Planner:
+         prologue: list[Item] | None = None, trailer: bytes = b"", spares: Spares | None = None) -> Planner:
     planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer,
-                      deployment=list(deployment))
+                      deployment=list(deployment), spares=spares)
     if any(reads_state(ctx) for ctx in ctxs.values()):
         for ctx in ctxs.values():
             ctx.watched = True
@@ -242,10 +270,14 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
 
 
 def split_items(planner: Planner, ctx: Context, items: list[EntryItem]) -> list[EntryItem]:
-    """Startup statements too large for a fragment of their own, split where that is sound."""
+    """Startup statements too large for a fragment of their own, split where that is sound;
+    commands and behaviours too large, as a chain of commands (``chain``)."""
     result: list[EntryItem] = []
     for item in items:
         alone_fits = planner.fits(continuation_code([(ctx, [item])]))
+        if not alone_fits and item.symbol is not None:
+            result += _chain(planner, ctx, item)
+            continue
         parts = [] if alone_fits else split_statement(item.stmt)
         if not parts:
             result.append(item)
@@ -253,3 +285,17 @@ def split_items(planner: Planner, ctx: Context, items: list[EntryItem]) -> list[
         smaller = [piece for part in parts for piece in startup_items(part, ctx, item.method)]
         result += split_items(planner, ctx, smaller)
     return result
+
+
+def _chain(planner: Planner, ctx: Context, item: EntryItem) -> list[EntryItem]:
+    if planner.spares is None:
+        return [item]
+    made = split_method(item, ctx, planner.spares,
+                        lambda part: planner.fits(continuation_code([(ctx, [part])])))
+    if isinstance(made, Culprit):
+        if made.stmt is not None:
+            planner.culprits[id(item)] = made.stmt
+        return [item]
+    items, culprits = made
+    planner.culprits.update(culprits)
+    return items

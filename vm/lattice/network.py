@@ -18,7 +18,7 @@ class Counters:
     dropped: int = 0  # lost on a connected link
     corrupted: int = 0  # delivered with one byte changed
     unconnected: int = 0  # sent on a connector with nobody attached (nobody hears them)
-    oversize: int = 0  # longer than the 50-byte budget (still delivered)
+    oversize: int = 0  # longer than the 50-byte IR packet limit: not sent, as on the hardware
 
     def as_dict(self) -> dict[str, int]:
         return dict(self.__dict__)
@@ -52,6 +52,9 @@ class Network:
         # an observer of every packet on a connected link (a replay recording); off by default:
         # on_send(now, source, target, physical, packet, dropped)
         self.on_send: Callable[[float, int, int, int, bytes, bool], None] | None = None
+        # told of every packet over the IR packet limit, which is not sent (a run's report says
+        # so): on_oversize(now, source, physical, packet)
+        self.on_oversize: Callable[[float, int, int, bytes], None] | None = None
 
     def send(self, now: float, source: int, physical: int, packet: bytes) -> None:
         packet = bytes(packet)
@@ -59,9 +62,12 @@ class Network:
         if peer is None:
             self.counters.unconnected += 1
             return
-        self.counters.sent += 1
-        if len(packet) > PACKET_BUDGET:
+        if len(packet) > PACKET_BUDGET:  # the ATRON's IR link does not carry it (docs/vm.md)
             self.counters.oversize += 1
+            if self.on_oversize is not None:
+                self.on_oversize(now, source, physical, packet)
+            return
+        self.counters.sent += 1
         if self.loss and self.rng.random() < self.loss:
             self.counters.dropped += 1
             if self.on_send is not None:
