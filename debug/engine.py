@@ -370,6 +370,8 @@ class Engine:
             client = run.world.client
             pb.restoreState(stateId=cp.state, physicsClientId=client)
             for joint in run.world.joints.values():  # the motors are not part of a saved state
+                if joint.joint is None:  # locked in a loop: no motor
+                    continue
                 pb.setJointMotorControl2(joint.body, joint.joint, pb.VELOCITY_CONTROL,
                                          targetVelocity=joint._command, force=JOINT_MAX_TORQUE,  # noqa: SLF001
                                          physicsClientId=client)

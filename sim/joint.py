@@ -76,7 +76,8 @@ class PhysicsJoint:
             return False
         ticks += 1
         self._headway = (ticks, best)
-        return ticks / params.VM_HZ >= params.JOINT_STALL_S and error > math.radians(params.JOINT_ANGLE_TOLERANCE_DEG)
+        done = error <= math.radians(params.JOINT_ANGLE_TOLERANCE_DEG)
+        return ticks / params.VM_HZ >= params.JOINT_STALL_S and not done
 
     def angle_deg(self) -> float:
         return wrap(math.degrees(self.angle))

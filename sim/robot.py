@@ -27,8 +27,8 @@ import pybullet as pb
 from sim import geometry as g
 from sim import params
 from sim import shapes as sh
-from vm import navigation
 from sim.poses import Matrix
+from vm import navigation
 from vm.lattice.structure import ModuleSpec, Structure
 
 Node = tuple[int, int]  # (module id, virtual side PLUS/MINUS)

@@ -186,7 +186,8 @@ def _build_part(robot: Robot, specs: dict[int, ModuleSpec], topo: _Topo, groups:
         old = robot.modules.get(mid)
         modules[mid] = ModuleBody(mid, old.centre0 if old else tuple(states[(mid, g.PLUS)].centre.tolist()),
                                   wheel_side=old.wheel_side if old else 0)
-    cols, vis, pos, orns, inert_pos, inert_orn, masses, inertias, parents, types, axes = ([] for _ in range(11))
+    cols, vis, pos, orns, inert_pos, inert_orn = ([] for _ in range(6))
+    masses, inertias, parents, types, axes = ([] for _ in range(5))
     ring_axes: dict[int, int] = {}
     for i, grp in enumerate(plan.order):
         parts, shown = [], 0
@@ -245,8 +246,9 @@ def _build_part(robot: Robot, specs: dict[int, ModuleSpec], topo: _Topo, groups:
     pb.changeDynamics(body, -1, localInertiaDiagonal=(params.ANCHOR_INERTIA,) * 3, physicsClientId=client)
     _set_dynamics(body, inertias, ring_axes, client)
     root = states[ref[plan.order[0]]]
-    pb.resetBaseVelocity(body, tuple(root.velocity.tolist()), tuple(root.spin.tolist()), physicsClientId=client)
-    for grp, (par, mid) in plan.parent_joint.items():
+    pb.resetBaseVelocity(body, tuple(root.velocity.tolist()), tuple(root.spin.tolist()),
+                         physicsClientId=client)
+    for grp, (par, _) in plan.parent_joint.items():
         axis = frame[grp] @ np.array(axes[link_of[grp]])
         rate = float((states[ref[grp]].spin - states[ref[par]].spin) @ axis)
         pb.resetJointState(body, link_of[grp], 0.0, rate, physicsClientId=client)
