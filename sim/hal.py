@@ -57,3 +57,26 @@ class PhysicsHal:
 
     def set_led(self, value: int) -> None:
         self.led = value
+
+    # ---- structures that change: the physics world's part is i23p's (issue 23); until it is
+    # there, every action fails at once and the queries read the configuration's links
+    result: int | None = 0
+
+    def connect(self, physical_channel: int) -> None:
+        self.result = 0
+
+    def disconnect(self, physical_channel: int) -> None:
+        self.result = 0
+
+    def rotate_quarters(self, quarters: int) -> None:
+        self.result = 0
+
+    def action_result(self) -> int | None:
+        return self.result
+
+    def is_connected(self, physical_channel: int) -> bool:
+        return physical_channel in self._connected
+
+    def other_connector_nearby(self, physical_channel: int) -> bool:
+        structure = self.world.structure
+        return 0 <= physical_channel <= 7 and structure.facing(self.module_id, physical_channel) is not None
