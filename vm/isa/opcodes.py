@@ -143,6 +143,21 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
     _i(71, "STORE_DATA", (), 1, 0,
        "pop v; the running program carries v from now on, to the modules it migrates to (no-op if it "
        "carries no value)", ext=True),
+    # connector and joint actions of structures that change (docs/vm.md "Changing shape"); the
+    # connector c is a physical connector number (even: male, odd: female), as on the firmware
+    _i(90, "CONNECT", (), 1, 1,
+       "pop c; latch male connector c onto the female connector that faces it; the run waits until "
+       "the latch has closed or failed, then pushes 1 (latched) or 0 (failed)", ext=True),
+    _i(91, "DISCONNECT", (), 1, 1,
+       "pop c; open the latch of male connector c; the run waits, then pushes 1 (opened) or 0 "
+       "(failed: c is not latched, or is female with a male partner)", ext=True),
+    _i(92, "IS_CONNECTED", (), 1, 1, "pop c; push b(connector c is latched to a neighbour)", ext=True),
+    _i(93, "IS_ALIGNED", (), 1, 1,
+       "pop c; push b(a connector of a module on the adjacent cell faces connector c)", ext=True),
+    _i(94, "TURN_QUARTERS", (), 1, 1,
+       "pop n; turn the joint n quarter turns (n > 0 clockwise), carrying everything attached to the "
+       "turning hemisphere; the run waits until the turn has ended, then pushes 1 (turned) or 0 "
+       "(blocked: a loop, a collision, the ground)", ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -193,3 +208,5 @@ USER_COMMAND_BASE = 128
 USER_COMMANDS = 5  # entries in a role's command table
 USER_COMMAND_NUMBERS = range(USER_COMMAND_BASE, USER_COMMAND_BASE + USER_COMMANDS)
 COMMANDS = frozenset(BUILTIN_COMMANDS) | frozenset(USER_COMMAND_NUMBERS)
+# the actions whose run waits for the world's answer (vm.interpreter Outcome.ACTION)
+ACTIONS = {"CONNECT": "connect", "DISCONNECT": "disconnect", "TURN_QUARTERS": "turn"}

@@ -13,6 +13,7 @@ impossible operation is a failed ``Change``, never an exception.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -212,6 +213,13 @@ class Structure:
     def snapshot(self) -> Snapshot:
         """Everything that changes, to give back to ``restore`` (the debugger's step back)."""
         return Snapshot(dict(self.modules), {m: dict(p) for m, p in self._ports.items()}, self.version)
+
+    def copy(self) -> Structure:
+        """An independent structure in the same shape (no listeners): a run changes its own."""
+        clone = copy.copy(self)
+        clone.listeners = []
+        clone.restore(self.snapshot())
+        return clone
 
     def restore(self, snap: Snapshot) -> None:
         self.modules = dict(snap.modules)
