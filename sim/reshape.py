@@ -144,6 +144,8 @@ class Shape:
             return 0
         self.world.stopped.add(mid)
         self.world.joints[mid].stop()
+        if mid in self.world.runtimes:
+            self.world.runtimes[mid].halted = True
         self.say(mid, "stop", {})  # the outside change itself is said by whoever made it
         return 1
 
@@ -154,6 +156,9 @@ class Shape:
             self.busy = True
         if change.op == "remove":
             self.world.stopped.add(change.module)
+            runtime = self.world.runtimes.get(change.module)
+            if runtime is not None:
+                runtime.halted = True
         self.relink()
         if change.op != "remove":  # a detach is said as the outside change that made it
             self.say(change.module, _KINDS[change.op], _detail(change))
@@ -163,10 +168,9 @@ class Shape:
     def relink(self) -> None:
         """IR links and attached connectors from the structure (a link needs a latch)."""
         s, w = self.world.structure, self.world
-        for mid in w.hals:
-            ports = s.neighbours(mid) if mid in s.modules else {}
-            w.network._ports[mid] = ports  # noqa: SLF001 - the network's view of the links
-            w.hals[mid]._connected = frozenset(ports)  # noqa: SLF001
+        w.network.refresh()
+        for mid, hal in w.hals.items():
+            hal._connected = s.connected_channels(mid) if mid in s.modules else frozenset()  # noqa: SLF001
 
     def tick(self) -> None:
         """After the modules' step: follow the turns under way, build the bodies again if the
@@ -258,7 +262,6 @@ class Shape:
         w = self.world
         w.joints[mid] = PhysicsJoint(w.client, -1, None)
         w.hals[mid] = PhysicsHal(w, mid, w.joints[mid])
-        w.network._ports[mid] = w.structure.neighbours(mid)  # noqa: SLF001
         w.add_runtime(mid)
         if w.on_new_runtime is not None and mid in w.runtimes:
             w.on_new_runtime(mid)
