@@ -4,8 +4,10 @@ Angles follow ``sim.robot``'s convention (positive = clockwise = south hemispher
 clockwise seen from the north pole). The motor is a velocity motor limited to the joint torque;
 rotate-to is a proportional controller capped at the joint speed, updated every VM tick.
 
-A rotate-to that makes no headway for ``params.JOINT_STALL_S`` has failed, as on the robot when
-the load is more than the joint's torque can lift: the joint gives up and holds (``stalled``).
+A quarter turn (``turn_quarters``, the structure-changing action) that makes no headway for
+``params.JOINT_STALL_S`` has failed, as on the robot when the load is more than the joint's
+torque can lift: the joint gives up and holds (``stalled``). The older rotate-to and rotate-by
+commands keep trying, as they always did (an axle steering against its wheels' scrub).
 After a change of shape (``sim.topology``) the joint is a new PyBullet joint whose zero is the
 angle it stood at: ``rebind`` keeps the angle going on from there. A joint whose module closes a
 loop of the structure is locked (no PyBullet joint): it cannot turn.
@@ -25,8 +27,8 @@ class PhysicsJoint:
     def __init__(self, client: int, body: int, joint: int | None) -> None:
         self.client, self.body, self.joint = client, body, joint
         self.offset = 0.0  # rad: the angle at which the PyBullet joint reads 0
-        self.stalled = False  # the last rotate-to gave up: the load was too heavy
-        self._headway = (0.0, 0.0)  # (time in ticks of no headway, best error so far)
+        self.stalled = False  # the last quarter turn gave up: the load was too heavy
+        self._headway: tuple[float, float] | None = None  # quarter turn: (ticks of no headway, best error)
         self.angle = 0.0  # rad, unwrapped, as measured at the last update
         self.turns = 0.0
         self.velocity = 0.0  # commanded rad/s in continuous mode
@@ -56,8 +58,8 @@ class PhysicsJoint:
             return
         if self.target is not None:
             error = self.target - angle
-            if self._no_headway(abs(error)):
-                self.stalled, self.target, error = True, None, 0.0
+            if self._headway is not None and self._no_headway(abs(error)):
+                self.stalled, self.target, self._headway, error = True, None, None, 0.0
             cap = params.JOINT_SPEED
             command = max(-cap, min(cap, params.JOINT_POSITION_GAIN * error))
         else:
@@ -70,7 +72,7 @@ class PhysicsJoint:
     def _no_headway(self, error: float) -> bool:
         """True once the error has not shrunk by ``params.JOINT_STALL_DEG`` for
         ``params.JOINT_STALL_S`` (counted in updates: one per VM tick)."""
-        ticks, best = self._headway
+        ticks, best = self._headway  # type: ignore[misc]
         if error < best - math.radians(params.JOINT_STALL_DEG):
             self._headway = (0.0, error)
             return False
@@ -88,24 +90,28 @@ class PhysicsJoint:
         return self.velocity != 0.0
 
     def rotate_continuously(self, speed: int) -> None:
-        self.target = None
-        self.stalled = False
+        self.target, self._headway = None, None
         self.velocity = speed * params.JOINT_SPEED if self.joint is not None else 0.0
         self.update()
 
     def rotate_by(self, delta_deg: float) -> None:
         self.velocity = 0.0
-        self.stalled = False
+        self._headway = None
         self.target = self.angle + math.radians(delta_deg)
-        self._headway = (0.0, abs(math.radians(delta_deg)))
-        if self.joint is None:  # locked in a loop: the turn fails at once
-            self.stalled, self.target = True, None
         self.update()
+
+    def turn_quarters(self, quarters: int) -> None:
+        """A quarter turn that gives up when it makes no headway (``stalled``)."""
+        self.rotate_by(90.0 * quarters)
+        self.stalled = False
+        self._headway = (0.0, abs(math.radians(90.0 * quarters)))
+        if self.joint is None:  # locked in a loop: the turn fails at once
+            self.stalled, self.target, self._headway = True, None, None
 
     def rotate_to(self, angle_deg: float) -> None:
         self.rotate_by(shorter_turn(angle_deg - self.angle_deg()))
 
     def stop(self) -> None:
         self.velocity = 0.0
-        self.target = None
+        self.target, self._headway = None, None
         self.update()

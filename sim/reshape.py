@@ -79,7 +79,7 @@ class Shape:
                                             "reason": f"module {mid}'s joint is locked in a loop" if locked
                                             else f"module {mid} is turning already"})
             return 0
-        joint.rotate_by(90.0 * quarters)
+        joint.turn_quarters(quarters)
         self.turns[mid] = (quarters, check.moving or 0)
         self.busy = True
         self.say(mid, "rotation_start", {"quarters": quarters, "moving": _HEMISPHERES[check.moving or 0],

@@ -189,6 +189,11 @@ class Run:
             runtime.on_event = _recorder(events, lambda: world.time, mid)
         world.on_detection = lambda mid, k: events.append(
             {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
+        # the structure's changes (sim.reshape), and modules attached from outside
+        world.on_change = lambda t, mid, kind, detail: events.append(
+            {"t": round(t, 3), "module": mid, "kind": kind, "detail": dict(detail)})
+        world.on_new_runtime = lambda mid: setattr(world.runtimes[mid], "on_event",
+                                                   _recorder(events, lambda: world.time, mid))
 
     # ---- building --------------------------------------------------------------------------
     def _build_physics(self) -> None:
@@ -196,7 +201,8 @@ class Run:
 
         options, structure = self.options, self.structure
         world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
-                             packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record))
+                             packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record),
+                             changes=getattr(options, "changes", None))
         self.world = world
         try:
             runtimes = world.add_runtimes(self.roles, options.seed, TARGETS[options.vm])

@@ -129,8 +129,8 @@ class PhysicsWorld:
             runtime = self.runtimes.get(packet.target)
             if runtime is not None and packet.target not in stopped:
                 runtime.receive(packet.physical, packet.packet)
-        for mid, runtime in self.runtimes.items():
-            if runtime.needs_step() and mid not in stopped:
+        for runtime in self.runtimes.values():  # a stopped module's runtime is halted
+            if runtime.needs_step():
                 runtime.step()
         self.update_joints()
         while self.outside and self.outside[0].t <= self.time + 1e-9:
