@@ -55,7 +55,7 @@ class Shape:
         if mid not in s.modules or mid in self.world.stopped:
             return 0
         if kind == "connect":
-            gap = self.gap(mid, arg)
+            gap = self.gap(mid, arg) if isinstance(arg, int) and 0 <= arg <= 7 else None
             if gap is not None and gap > params.LATCH_DISTANCE:
                 self.say(mid, "connect_failed", {"connector": arg, "cause": "not_aligned", "reason": (
                     f"connector {arg} of module {mid} is {gap * 100:.1f} cm from the connector it faces; "
@@ -72,6 +72,8 @@ class Shape:
         check = self.world.structure.rotate(mid, quarters, apply=False)
         if not check.ok:
             return self._done(check, "rotation")
+        if quarters == 0:
+            return 1
         joint = self.world.joints[mid]
         if mid in self.turns or joint.joint is None:
             locked = joint.joint is None

@@ -13,6 +13,7 @@ from sim.run import inject_program, role_table
 from sim.world import PhysicsWorld
 from tests.sim.helpers import obstacle_program
 from vm import navigation
+from vm.isa.assembler import assemble
 from vm.lattice.mount import Mount
 from vm.lattice.outside import OutsideChange
 from vm.lattice.structure import ModuleSpec, Structure, make_structure
@@ -182,5 +183,43 @@ def test_car7_losing_a_wheel_from_outside_keeps_running() -> None:
         assert [e[2] for e in world.events][:1] == ["outside"]
         assert world.centre()[1] > y0 + 0.02  # the three-wheeled car still drives forward
         assert len(world.robot.bodies) == 1
+    finally:
+        world.close()
+
+
+@pytest.mark.slow
+def test_a_program_turning_its_joint_moves_the_structure_as_in_the_lattice_world() -> None:
+    code = assemble("PUSH -1\nTURN_QUARTERS\nSET_LED_STACK\nEND_TERMINATE")  # LED = the answer
+    lattice = LatticeWorld(load_config("snake4"), RoleTable())
+    lattice.inject(code, 2)
+    lattice.advance(3.0)
+    world = PhysicsWorld(load_config("snake4"))
+    try:
+        world.add_runtimes(RoleTable(), 0)[2].inject(code)
+        world.advance(3.0)
+        assert world.hals[2].led == lattice.hals[2].led == 1
+        assert world.structure.modules == lattice.structure.modules
+        assert [e[2] for e in world.events] == ["rotation_start", "rotation_end"]
+    finally:
+        world.close()
+
+
+def test_impossible_actions_are_reported_never_raised() -> None:
+    world, events = _world(load_config("snake4"))
+    try:
+        hal = world.hals[1]
+        for action, arg in (("connect", 99), ("connect", -1), ("disconnect", 42), ("connect", 1),
+                            ("disconnect", 5)):
+            getattr(hal, action)(arg)
+            assert hal.action_result() == 0
+        world.hals[2].rotate_quarters(1)  # module 3 would pass through the ground
+        assert world.hals[2].action_result() == 0
+        assert not hal.other_connector_nearby(99)
+        assert [e[2] for e in events] == ["connect_failed", "connect_failed", "disconnect_failed",
+                                          "connect_failed", "disconnect_failed", "rotation_failed"]
+        assert events[-1][3]["cause"] == "ground"
+        world.hals[0].rotate_quarters(0)
+        assert world.hals[0].action_result() == 1
+        world.advance(0.1)
     finally:
         world.close()
