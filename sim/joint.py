@@ -97,7 +97,8 @@ class PhysicsJoint:
     def rotate_by(self, delta_deg: float) -> None:
         self.velocity = 0.0
         self._headway = None
-        self.target = self.angle + math.radians(delta_deg)
+        # a joint locked in a loop does not move, and is not "turning" (as before it had no object)
+        self.target = self.angle + math.radians(delta_deg) if self.joint is not None else None
         self.update()
 
     def turn_quarters(self, quarters: int) -> None:
