@@ -148,7 +148,6 @@ class Shape:
         self.world.joints[mid].stop()
         if mid in self.world.runtimes:
             self.world.runtimes[mid].halted = True
-        self.say(mid, "stop", {})  # the outside change itself is said by whoever made it
         return 1
 
     # ---- following the structure ------------------------------------------------------------

@@ -223,3 +223,24 @@ def test_impossible_actions_are_reported_never_raised() -> None:
         world.advance(0.1)
     finally:
         world.close()
+
+
+@pytest.mark.slow
+def test_a_module_attached_from_outside_appears_on_its_cell_and_latches() -> None:
+    changes = [OutsideChange(0.5, "attach", 4, (0, 4, 0), navigation.NORTH_SOUTH, text="0.5s:attach 4"),
+               OutsideChange(1.0, "stop", 1, text="1s:stop 1")]
+    world = PhysicsWorld(load_config("snake4"), changes=changes)
+    try:
+        world.add_runtimes(RoleTable(), 0)
+        world.advance(0.8)
+        assert 4 in world.robot.modules and 4 in world.runtimes
+        assert world.structure.neighbours(4) and world.hals[4].connected_channels()
+        centres = world.module_centres()
+        step = np.subtract(centres[4], centres[2])
+        assert np.allclose(step, (0.0, 2 * params.LATTICE_UNIT, 0.0), atol=0.01)  # its cell, no fall
+        assert len(world.robot.bodies) == 1
+        world.advance(0.5)
+        assert 1 in world.stopped and world.runtimes[1].halted
+        assert [e[2] for e in world.events] == ["outside", "attach", "outside"]
+    finally:
+        world.close()
