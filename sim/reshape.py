@@ -52,7 +52,9 @@ class Shape:
     def act(self, mid: int, kind: str, arg: int) -> int | None:
         """Start a module's action: 1 done, 0 failed (said why), None under way (a turn)."""
         s = self.world.structure
-        if mid not in s.modules or mid in self.world.stopped:
+        if mid in self.turns or mid not in s.modules or mid in self.world.stopped:
+            reason = "the module is turning" if mid in self.turns else "the module was taken away"
+            self.say(mid, f"{'rotation' if kind == 'turn' else kind}_failed", {"reason": reason})
             return 0
         if kind == "connect":
             gap = self.gap(mid, arg) if isinstance(arg, int) and 0 <= arg <= 7 else None
@@ -75,11 +77,9 @@ class Shape:
         if quarters == 0:
             return 1
         joint = self.world.joints[mid]
-        if mid in self.turns or joint.joint is None:
-            locked = joint.joint is None
-            self.say(mid, "rotation_failed", {"quarters": quarters, "cause": "loop" if locked else "busy",
-                                            "reason": f"module {mid}'s joint is locked in a loop" if locked
-                                            else f"module {mid} is turning already"})
+        if joint.joint is None:  # the structure sees the loop first; this is a guard
+            self.say(mid, "rotation_failed", {"quarters": quarters, "cause": "loop",
+                                              "reason": f"module {mid}'s joint is locked in a loop"})
             return 0
         joint.turn_quarters(quarters)
         self.turns[mid] = (quarters, check.moving or 0)
