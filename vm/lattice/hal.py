@@ -74,16 +74,16 @@ class LatticeHal:
         return self.joint.is_turning()
 
     def rotate_continuously(self, speed: int) -> None:
-        self.world.legacy_motion(self.module_id)
         self.joint.rotate_continuously(speed)
+        self.world.legacy_motion(self.module_id)
 
     def rotate_to(self, angle_deg: float) -> None:
-        self.world.legacy_motion(self.module_id)
         self.joint.rotate_to(angle_deg)
+        self.world.legacy_motion(self.module_id)
 
     def rotate_by(self, delta_deg: float) -> None:
-        self.world.legacy_motion(self.module_id)
         self.joint.rotate_by(delta_deg)
+        self.world.legacy_motion(self.module_id)
 
     def stop_joint(self) -> None:
         self.joint.stop()

@@ -256,14 +256,18 @@ class LatticeWorld:
             hal.result = 0
 
     def legacy_motion(self, mid: int) -> None:
-        """An older joint command: it cancels a quarter turn under way; a joint holding modules on
-        both hemispheres moves only its angle (the lattice cannot hold angles between quarters)."""
+        """After an older joint command: it ends a quarter turn under way (which fails: the
+        structure did not move); a joint holding modules on both hemispheres that it sets turning
+        moves only its angle (the lattice cannot hold angles between quarters), reported once."""
+        hal = self.hals[mid]
         if mid in self._turning:
-            self.hals[mid].joint.stop()
+            quarters = self._turning.pop(mid)[0]
+            hal.result = 0
+            self.note(mid, "rotation_failed", {"quarters": quarters, "cause": "interrupted",
+                                               "reason": "a joint command ended the quarter turn"})
+        if mid in self._unmodelled or mid not in self.structure.modules or not hal.joint.is_turning():
             return
-        if mid in self._unmodelled or mid not in self.structure.modules:
-            return
-        connected = self.hals[mid].connected_channels()
+        connected = hal.connected_channels()
         if any(c < 4 for c in connected) and any(c >= 4 for c in connected):
             self._unmodelled.add(mid)
             self.note(mid, "joint_unmodelled", {"reason": "the joint holds modules on both hemispheres; "
@@ -297,6 +301,7 @@ class LatticeWorld:
                 self.note(c.module, "outside_failed", {**detail, "reason": f"no module {c.module}"})
                 return
             runtime.halted = True
+            self.hals[c.module].joint.stop()
             self.note(c.module, "outside", detail)
             return
         if c.kind == "detach":
@@ -306,6 +311,7 @@ class LatticeWorld:
                 self.detached[c.module] = self.now()
                 self._order = [m for m in self._order if m != c.module]
                 self.runtimes[c.module].halted = True
+                self.hals[c.module].joint.stop()
             else:
                 self.note(c.module, "outside_failed", {**detail, "reason": change.reason})
             return
