@@ -43,7 +43,7 @@ def source_of(program: CompiledProgram, code: bytes, pc: int | None) -> dict[str
     if fragment is None:
         return out
     out["fragment"], out["pc"] = fragment, offset
-    lines = dict(program.fragment(fragment).source_lines())
+    lines = dict(program.fragment(fragment).source_lines)
     if offset in lines and lines[offset]:
         out["line"] = lines[offset]
     return out
