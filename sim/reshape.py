@@ -264,8 +264,6 @@ class Shape:
         w.joints[mid] = PhysicsJoint(w.client, -1, None)
         w.hals[mid] = PhysicsHal(w, mid, w.joints[mid])
         w.add_runtime(mid)
-        if w.on_new_runtime is not None and mid in w.runtimes:
-            w.on_new_runtime(mid)
 
     def say(self, mid: int, kind: str, detail: dict[str, Any]) -> None:
         w = self.world

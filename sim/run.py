@@ -15,7 +15,7 @@ from typing import Any
 from rdcd_core.compiler.program import CompiledProgram
 from sim import params
 from sim.obstacles import Box, parse_obstacle
-from sim.report import build_report
+from sim.report import build_report, source_of
 from vm.isa.targets import TARGETS
 from vm.lattice.structure import Structure
 from vm.roles import RoleTable
@@ -39,6 +39,8 @@ class Options:
     realtime: bool = False  # pace the GUI at wall-clock speed
     vm: str = "default"  # the VM profile every module runs: a name in vm.isa.targets.TARGETS
     recording: Any = None  # a sim.replay.recording.Recording to fill, or None
+    # outside changes (vm.lattice.outside.OutsideChange), validated before the run
+    outside_changes: list[Any] = field(default_factory=list)
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -57,7 +59,7 @@ def simulate(program: CompiledProgram, structure: Structure, options: Options) -
     finally:
         run.close()
     wall = time.perf_counter() - start
-    return build_report(program, structure, run.roles, options, result, wall)
+    return build_report(program, run.structure, run.roles, options, result, wall, start=structure)
 
 
 @dataclass
@@ -70,7 +72,8 @@ class RunResult:
     start_positions: dict[int, tuple[float, float]] = field(default_factory=dict)
 
 
-def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int) -> Callable:
+def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int,
+              program: CompiledProgram | None = None, sources: dict[int, dict] | None = None) -> Callable:
     last_command: list[dict[str, Any]] = [{}]
 
     def record(kind: str, detail: dict[str, Any]) -> None:
@@ -78,7 +81,26 @@ def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int
             if detail == last_command[0]:
                 return
             last_command[0] = dict(detail)
+        if kind == "action" and program is not None:  # where in the program: fragment, pc, line
+            detail = {k: v for k, v in detail.items() if k not in ("code", "pc")} | \
+                source_of(program, detail.get("code", b""), detail.get("pc"))
+            if sources is not None:
+                sources[mid] = {k: detail[k] for k in ("fragment", "pc", "line") if k in detail}
         events.append({"t": round(clock(), 3), "module": mid, "kind": kind, "detail": dict(detail)})
+    return record
+
+
+# the structure's events that a module's own action caused: they name the action's source line
+_ACTION_RESULTS = frozenset({"connect", "disconnect", "connect_failed", "disconnect_failed", "rotation_start",
+                             "rotation_end", "rotation_failed"})
+
+
+def _change_recorder(events: list[dict[str, Any]], sources: dict[int, dict]) -> Callable:
+    def record(t: float, mid: int, kind: str, detail: dict[str, Any]) -> None:
+        detail = dict(detail)
+        if kind in _ACTION_RESULTS and mid in sources:
+            detail.update(sources[mid])
+        events.append({"t": round(t, 3), "module": mid, "kind": kind, "detail": detail})
     return record
 
 
@@ -115,6 +137,9 @@ class Run:
     def __init__(self, program: CompiledProgram, structure: Structure, options: Options) -> None:
         if options.vm not in TARGETS:
             raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
+        # the run changes its own copy: the caller's structure (a sweep's, a debugger's) stays
+        self.start_structure = structure
+        structure = structure.copy()
         self.program, self.structure, self.options = program, structure, options
         self.boxes = parse_obstacle(options.obstacle)
         self.roles = role_table(program)
@@ -181,19 +206,20 @@ class Run:
         """Record the story of the run (for the report) from this run's world into ``events``;
         again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
         world, events = self.world, self.events
-        if self.options.world == "lattice":
-            for mid, runtime in world.runtimes.items():
-                runtime.on_event = _recorder(events, world.now, mid)
-            return
+        lattice = self.options.world == "lattice"
+        clock = world.now if lattice else (lambda: world.time)
+        sources: dict[int, dict] = {}
+
+        def recorder(mid: int) -> Callable:
+            return _recorder(events, clock, mid, self.program, sources)
         for mid, runtime in world.runtimes.items():
-            runtime.on_event = _recorder(events, lambda: world.time, mid)
+            runtime.on_event = recorder(mid)
+        world.make_recorder = recorder  # for modules attached from outside
+        world.on_change = _change_recorder(events, sources)  # the structure's changes
+        if lattice:
+            return
         world.on_detection = lambda mid, k: events.append(
             {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
-        # the structure's changes (sim.reshape), and modules attached from outside
-        world.on_change = lambda t, mid, kind, detail: events.append(
-            {"t": round(t, 3), "module": mid, "kind": kind, "detail": dict(detail)})
-        world.on_new_runtime = lambda mid: setattr(world.runtimes[mid], "on_event",
-                                                   _recorder(events, lambda: world.time, mid))
 
     # ---- building --------------------------------------------------------------------------
     def _build_physics(self) -> None:
@@ -202,7 +228,7 @@ class Run:
         options, structure = self.options, self.structure
         world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
                              packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record),
-                             changes=getattr(options, "changes", None))
+                             changes=options.outside_changes)
         self.world = world
         try:
             runtimes = world.add_runtimes(self.roles, options.seed, TARGETS[options.vm])
@@ -227,7 +253,8 @@ class Run:
         world = LatticeWorld(structure, self.roles, seed=options.seed, packet_loss=options.packet_loss,
                              latency_s=params.IR_LATENCY_S,
                              joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
-                             obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm])
+                             obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm],
+                             changes=options.outside_changes)
         self.world = world
         self.hook_events()
         self._advance = world.advance

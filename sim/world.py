@@ -80,7 +80,8 @@ class PhysicsWorld:
         self.events: list[tuple[float, int, str, dict[str, object]]] = []
         self.on_change: Callable[[float, int, str, dict[str, object]], None] | None = None
         self.stopped: set[int] = set()  # modules taken away or stopped for good: not stepped
-        self.on_new_runtime: Callable[[int], None] | None = None  # a module attached from outside
+        # module id -> its runtime's on_event, for a module attached from outside (sim.run)
+        self.make_recorder: Callable[[int], Any] | None = None
         self.shape = reshape.Shape(self)
         # outside changes (vm.lattice.outside.OutsideChange), by time, applied at their VM tick
         self.outside = sorted(changes or [], key=lambda c: c.t)
@@ -122,6 +123,8 @@ class PhysicsWorld:
         if self._runtime_args is not None:
             roles, seed, target = self._runtime_args
             self.runtimes[mid] = make_runtime(self.hals[mid], roles, module_id=mid, seed=seed, target=target)
+            if self.make_recorder is not None:
+                self.runtimes[mid].on_event = self.make_recorder(mid)
 
     def vm_tick(self) -> None:
         stopped = self.stopped

@@ -69,6 +69,8 @@ CASES: list[tuple[str, int, str, str]] = [
     ("E209", 1, "a", "role A { constant a := b; constant b := a; }\ndeployment { A }"),
     ("E210", 1, "35", "role A { startup s() { self.turnTowards(35); } }\ndeployment { A }"),
     ("E210", 2, "k", "role A { constant k := 5;\n startup s() { self.turnDegrees(k); } }\ndeployment { A }"),
+    ("E220", 1, "3", "role A { startup s() { self.connect(3); } }\ndeployment { A }"),
+    ("E320", 1, "self.connect(0)", "role A { self.connect(0); }\ndeployment { A }"),
     # ---- methods, calls, blocks
     ("E301", 1, "turnContinuosly", "role A { startup s() { self.turnContinuosly(1); } }\ndeployment { A }"),
     ("E301", 2, "hepl", "role A { help() { }\n startup s() { self.hepl(); } }\ndeployment { A }"),

@@ -224,6 +224,7 @@ class LatticeWorld:
             return 1
         joint = self.hals[mid].joint
         self._turning[mid] = (arg, check.moving, joint.turns)
+        self.hals[mid].watch = True
         joint.rotate_by(90.0 * arg)
         self.note(mid, "rotation_start", {"quarters": arg, "moving": _HEMISPHERES[check.moving or 0],
                                           "carried": list(check.moved)})
@@ -241,6 +242,7 @@ class LatticeWorld:
             if hal.joint.is_turning():
                 continue
             del self._turning[mid]
+            hal.refresh()
             done = abs(hal.joint.turns - start) * 4
             change = None
             if abs(done - abs(quarters)) < 1e-6:
@@ -255,17 +257,27 @@ class LatticeWorld:
                                                "interrupted", "reason": reason})
             hal.result = 0
 
+    def watches(self, mid: int, both_sides: bool) -> bool:
+        """Whether ``mid``'s hal must tell ``legacy_motion`` of its older joint commands."""
+        return mid in self._turning or (both_sides and mid not in self._unmodelled)
+
     def legacy_motion(self, mid: int) -> None:
-        """An older joint command: it cancels a quarter turn under way; a joint holding modules on
-        both hemispheres moves only its angle (the lattice cannot hold angles between quarters)."""
+        """After an older joint command: it ends a quarter turn under way (which fails: the
+        structure did not move); a joint holding modules on both hemispheres that it sets turning
+        moves only its angle (the lattice cannot hold angles between quarters), reported once."""
+        hal = self.hals[mid]
         if mid in self._turning:
-            self.hals[mid].joint.stop()
+            quarters = self._turning.pop(mid)[0]
+            hal.result = 0
+            hal.refresh()
+            self.note(mid, "rotation_failed", {"quarters": quarters, "cause": "interrupted",
+                                               "reason": "a joint command ended the quarter turn"})
+        if mid in self._unmodelled or mid not in self.structure.modules or not hal.joint.is_turning():
             return
-        if mid in self._unmodelled or mid not in self.structure.modules:
-            return
-        connected = self.hals[mid].connected_channels()
+        connected = hal.connected_channels()
         if any(c < 4 for c in connected) and any(c >= 4 for c in connected):
             self._unmodelled.add(mid)
+            hal.watch = False
             self.note(mid, "joint_unmodelled", {"reason": "the joint holds modules on both hemispheres; "
                                                 "the lattice world turns only its angle (use turnQuarters "
                                                 "to move them)"})
@@ -297,6 +309,7 @@ class LatticeWorld:
                 self.note(c.module, "outside_failed", {**detail, "reason": f"no module {c.module}"})
                 return
             runtime.halted = True
+            self.hals[c.module].joint.stop()
             self.note(c.module, "outside", detail)
             return
         if c.kind == "detach":
@@ -306,6 +319,7 @@ class LatticeWorld:
                 self.detached[c.module] = self.now()
                 self._order = [m for m in self._order if m != c.module]
                 self.runtimes[c.module].halted = True
+                self.hals[c.module].joint.stop()
             else:
                 self.note(c.module, "outside_failed", {**detail, "reason": change.reason})
             return
