@@ -46,6 +46,7 @@ class Shape:
         self.turns: dict[int, tuple[int, int]] = {}  # module -> (quarters, moving side) under way
         self.heard: list[Any] = []  # changes of the structure the bodies do not follow yet
         self.busy = False  # something for ``tick``
+        self.rebuilds = 0  # bodies built again so often (the debugger's saved states fit none then)
         world.structure.listeners.append(self.hear)
 
     # ---- what modules do (through sim.hal) ---------------------------------------------------
@@ -240,6 +241,7 @@ class Shape:
                 self._new_module(mid)
         latches = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()]
         w.robot = rebuild(old, specs, latches, s.entry, w.client, states, visuals=w.visuals)
+        self.rebuilds += 1
         for mid, mb in w.robot.modules.items():
             w.joints[mid].rebind(mb.body, mb.joint)
         w.index_robot()
