@@ -236,8 +236,8 @@ class Shape:
             if mid in old.specs:
                 specs[mid] = old.specs[mid]
             else:  # attached from outside: created now, where its cell is in the world
+                states.update(self._place(spec, states, specs))
                 specs[mid] = spec
-                states.update(self._place(spec, states))
                 self._new_module(mid)
         latches = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()]
         w.robot = rebuild(old, specs, latches, s.entry, w.client, states, visuals=w.visuals)
@@ -247,12 +247,14 @@ class Shape:
         w.index_robot()
         w.update_joints()
 
-    def _place(self, spec: ModuleSpec, states: dict) -> dict:
+    def _place(self, spec: ModuleSpec, states: dict, specs: dict[int, ModuleSpec]) -> dict:
         """World states of a new module's hemispheres: on its cell, in the structure frame that
-        a latched neighbour sees, moving with that neighbour."""
-        s, w = self.world.structure, self.world
-        near = next(b for b, _ in s.neighbours(spec.id).values() if b in w.robot.specs)
-        spec0 = w.robot.specs[near]
+        a latched neighbour already placed sees (``specs``: the modules placed so far, each as
+        created), moving with that neighbour."""
+        s = self.world.structure
+        placed = [b for b, _ in s.neighbours(spec.id).values() if b in specs]
+        near = min(placed) if placed else min(specs)  # attached in one tick to modules attached later
+        spec0 = specs[near]
         ref = states[node_of(spec0, 0)]
         rot, origin = structure_frame(spec0, s.modules[near], 0, ref)
         centre = origin + rot @ (np.array(spec.position, dtype=float) * params.LATTICE_UNIT)
