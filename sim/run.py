@@ -144,6 +144,7 @@ class Run:
         self.boxes = parse_obstacle(options.obstacle)
         self.roles = role_table(program)
         self.events: list[dict[str, Any]] = []
+        self._sources: dict[int, dict] = {}  # per module, where its last action is in the program
         self.done = 0.0  # simulated seconds advanced
         self.world: Any = None
         self.starts: dict[int, tuple[float, float]] = {}
@@ -208,7 +209,7 @@ class Run:
         world, events = self.world, self.events
         lattice = self.options.world == "lattice"
         clock = world.now if lattice else (lambda: world.time)
-        sources: dict[int, dict] = {}
+        sources = self._sources  # the run's: a copy of the run keeps what its modules asked
 
         def recorder(mid: int) -> Callable:
             return _recorder(events, clock, mid, self.program, sources)
