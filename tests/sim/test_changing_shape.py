@@ -6,11 +6,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from rdcd_core.compiler import compile_model
+from rdcd_core.frontend import check_text
 from sim import params
 from sim.config import load_config
 from sim.obstacles import parse_obstacle
-from sim.run import inject_program, role_table
+from sim.run import Options, inject_program, role_table, simulate
 from sim.world import PhysicsWorld
+from tests.conftest import EXAMPLES
 from tests.sim.helpers import obstacle_program
 from vm import navigation
 from vm.isa.assembler import assemble
@@ -244,3 +247,21 @@ def test_a_module_attached_from_outside_appears_on_its_cell_and_latches() -> Non
         assert [e[2] for e in world.events] == ["outside", "attach", "outside"]
     finally:
         world.close()
+
+
+@pytest.mark.slow
+def test_move_one_moves_and_relatches_the_module_in_physics_as_in_the_lattice() -> None:
+    text = (EXAMPLES / "move_one.rdcd").read_text(encoding="utf-8")
+    program = compile_model(check_text(text).model, text=text)
+    reports = {}
+    for world in ("lattice", "physics"):
+        options = Options(world=world, config="random4-seed109", obstacle="none", duration=6.0)
+        reports[world] = simulate(program, load_config("random4-seed109"), options)
+    for report in reports.values():
+        assert [m["final_lattice"] for m in report["modules"]][2] == [2, 0, 0]
+        wanted = ("rotation_end", "connect", "disconnect")
+        kinds = [e["kind"] for e in report["events"] if e["kind"] in wanted]
+        assert kinds == ["rotation_end", "connect", "disconnect"]
+    assert reports["physics"]["connections"] == reports["lattice"]["connections"]
+    assert [m["final_lattice"] for m in reports["physics"]["modules"]] == \
+        [m["final_lattice"] for m in reports["lattice"]["modules"]]
