@@ -353,6 +353,17 @@ class Engine:
 
     def _restore(self, before: int) -> Run:
         """A copy of the last checkpoint at or before moment ``before``, ready to go on."""
+        shape = getattr(self.run.world, "shape", None) if self.run is not None else None
+        if shape is not None and shape.rebuilds:
+            # the physics world built its bodies again after a change of shape: the PyBullet
+            # states saved in this client no longer fit its bodies. Start again in a new client
+            # and go forward (the world is deterministic), keeping new checkpoints on the way.
+            self._base.close()  # type: ignore[union-attr]
+            self._checkpoints.clear()
+            for trails in (self._trail, self._statement_trail):
+                for trail in trails.values():
+                    del trail[:]
+            return self._first_run()
         cp = max((c for c in self._checkpoints if c.count <= before), key=lambda c: c.count)
         if cp.run is None:  # not copyable: a new run from the start
             run = self._new_run()
@@ -370,6 +381,8 @@ class Engine:
             client = run.world.client
             pb.restoreState(stateId=cp.state, physicsClientId=client)
             for joint in run.world.joints.values():  # the motors are not part of a saved state
+                if joint.joint is None:  # locked in a loop: no motor
+                    continue
                 pb.setJointMotorControl2(joint.body, joint.joint, pb.VELOCITY_CONTROL,
                                          targetVelocity=joint._command, force=JOINT_MAX_TORQUE,  # noqa: SLF001
                                          physicsClientId=client)

@@ -135,10 +135,11 @@ class Inspector:
 
     def module(self, runtime: Any, run: Any) -> dict[str, Any]:
         angle, speed = _joint(runtime)
-        spec = run.structure.modules[runtime.module_id]
+        spec = run.structure.modules.get(runtime.module_id)  # None: detached from outside
         return {
             "module": runtime.module_id, "role": role_name(runtime), "role id": runtime.role,
-            "lattice position": list(spec.position), "lattice axis": _axis(spec.axis),
+            "lattice position": list(spec.position) if spec else "detached",
+            "lattice axis": _axis(spec.axis) if spec else None,
             "learned coordinates": list(runtime.position) if runtime.position else None,
             "learned axis": _axis(runtime.axis),
             "mapping (virtual→physical)": list(runtime.mapping) if runtime.mapping else None,

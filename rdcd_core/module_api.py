@@ -101,6 +101,23 @@ PRIMITIVES: tuple[Primitive, ...] = (
               "neighbours are notified both times."),
     Primitive("setLed", _S, (_p("v", Type.INT),), Type.VOID,
               "Show v on the module's LEDs (debugging).", runtime_op="SET_LED_STACK"),
+    Primitive("connect", _S, (_p("c", Type.INT),), Type.BOOL,
+              "Latch male connector c (an even physical connector number, 0..7) onto the female "
+              "connector of the module on the adjacent cell that faces it; the behaviour waits until "
+              "the latch has closed or failed. True if latched. A statement, the condition of an if, "
+              "or the value of a state assignment."),
+    Primitive("disconnect", _S, (_p("c", Type.INT),), Type.BOOL,
+              "Open the latch of male connector c (even, 0..7); waits until done. True if opened; "
+              "false if c was not latched. May split the robot in parts that go on running."),
+    Primitive("isConnected", _S, (_p("c", Type.INT),), Type.BOOL,
+              "Whether physical connector c (0..7) is latched to a neighbour."),
+    Primitive("isAligned", _S, (_p("c", Type.INT),), Type.BOOL,
+              "Whether a connector of a module on the adjacent cell faces physical connector c "
+              "(0..7), latched or not: the firmware's isOtherConnectorNearby."),
+    Primitive("turnQuarters", _S, (_p("n", Type.INT),), Type.BOOL,
+              "Turn the joint n quarter turns (n > 0 clockwise), carrying everything attached to the "
+              "turning hemisphere to new cells; waits until the turn has ended. True if it turned; "
+              "false if blocked (a loop through the structure, a module in the way, the ground)."),
     Primitive("min", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
               "The smaller of a and b; min(neighbours.s): the smallest value of module state s that a "
               "neighbour published (127 when none has).", aggregate=True),
@@ -124,3 +141,10 @@ def lookup_self(name: str) -> Primitive | None:
 
 def lookup_function(name: str) -> Primitive | None:
     return FUNCTIONS.get(name)
+
+
+# The calls that change the structure: they act, so they are never evaluated twice or in role
+# discovery (the checker allows them only where they run exactly once, E320).
+ACTIONS = frozenset({"connect", "disconnect", "turnQuarters"})
+# The calls whose argument is a physical connector number (a constant is checked, E220).
+CONNECTOR_CALLS = frozenset({"connect", "disconnect", "isConnected", "isAligned"})

@@ -52,6 +52,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     add_replay(parser)
 
+    parser.add_argument("--change", action="append", default=[], metavar="T:WHAT",
+                        help="an outside change at time T: 'T:detach ID', 'T:attach ID at X,Y,Z [AXIS] "
+                             "[rot R] [mirrored]' or 'T:stop ID' (e.g. 20s:detach 3); repeatable")
+    parser.add_argument("--changes", metavar="FILE",
+                        help="outside changes from a file, one per line as for --change (# comments)")
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
                              "ATRON firmware with its limits and quirks (docs/vm.md)")
@@ -216,6 +221,7 @@ def run(args: argparse.Namespace) -> int:
     from rdcd_core.inputs import InputError
     from rdcd_core.outputs import check_outputs
     from sim.config import ConfigError, config_file, load_config
+    from vm.lattice.outside import ChangeError
 
     # everything that can be refused is, before the program is compiled and the world built
     problem = check_options(args)
@@ -231,8 +237,11 @@ def run(args: argparse.Namespace) -> int:
         inputs = [("the program", args.file)]
         if config_path is not None:
             inputs.append(("the configuration file", str(config_path)))
+        if getattr(args, "changes", None):
+            inputs.append(("the changes file", args.changes))
         check_outputs(outputs, inputs)
-    except (ConfigError, InputError) as e:
+        changes = outside_changes(args, structure)
+    except (ConfigError, InputError, ChangeError) as e:
         return _fail(str(e))
     program = _compile(args.file, args.target or args.vm)
     if isinstance(program, int):
@@ -244,7 +253,8 @@ def run(args: argparse.Namespace) -> int:
     recording = new_recording(args, program, structure)
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
-                      progress=_progress_bar(), realtime=args.gui, vm=args.vm, recording=recording)
+                      progress=_progress_bar(), realtime=args.gui, vm=args.vm, recording=recording,
+                      outside_changes=changes)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui
@@ -266,6 +276,41 @@ def run(args: argparse.Namespace) -> int:
     for line in written:
         print(line)
     return _fail(problem) if problem else 0
+
+
+def outside_changes(args: argparse.Namespace, structure) -> list:  # noqa: ANN001
+    """The --change options and the --changes file, parsed and checked against the structure and
+    the duration (``ChangeError`` / ``InputError``, one line)."""
+    from rdcd_core.inputs import InputError, describe_os_error, read_regular
+    from vm.lattice.outside import ChangeError, parse_all, validate
+
+    texts = list(getattr(args, "change", None) or [])
+    path = getattr(args, "changes", None)
+    if path:
+        try:
+            data = read_regular(path)
+        except OSError as e:
+            raise InputError(f"--changes {path}: cannot read: {describe_os_error(e)}") from None
+        if len(data) > 1_000_000:
+            raise ChangeError(f"--changes {path}: {len(data)} bytes; a changes file has at most 1 MB")
+        try:
+            texts.append(data.decode("utf-8-sig"))
+        except UnicodeDecodeError as e:
+            raise ChangeError(f"--changes {path}: not UTF-8 text (byte {e.start})") from None
+    changes = parse_all(texts)
+    if changes and args.world == "physics" and not physics_takes_changes():
+        raise ChangeError("--change: this build's physics world does not take outside changes yet; "
+                          "use --world lattice")
+    validate(changes, structure, args.duration)
+    return changes
+
+
+def physics_takes_changes() -> bool:
+    import inspect
+
+    from sim.world import PhysicsWorld
+
+    return "changes" in inspect.signature(PhysicsWorld.__init__).parameters
 
 
 def _why(error: OSError) -> str:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from sim import params
 from sim.joint import PhysicsJoint
 
 if TYPE_CHECKING:
@@ -16,6 +17,7 @@ class PhysicsHal:
         self.module_id = module_id
         self.joint = joint
         self.led = 0
+        self.result: int | None = 0  # the last connector or quarter-turn action's answer (None: under way)
         self._connected = world.structure.connected_channels(module_id)
 
     def now(self) -> float:
@@ -57,3 +59,29 @@ class PhysicsHal:
 
     def set_led(self, value: int) -> None:
         self.led = value
+
+    # ---- structures that change (sim.reshape) ----------------------------------------------
+    def connect(self, physical_channel: int) -> None:
+        self.result = self.world.shape.act(self.module_id, "connect", physical_channel)
+
+    def disconnect(self, physical_channel: int) -> None:
+        self.result = self.world.shape.act(self.module_id, "disconnect", physical_channel)
+
+    def rotate_quarters(self, quarters: int) -> None:
+        self.result = self.world.shape.act(self.module_id, "turn", quarters)
+
+    def action_result(self) -> int | None:
+        return self.result
+
+    def is_connected(self, physical_channel: int) -> bool:
+        return physical_channel in self._connected
+
+    def other_connector_nearby(self, physical_channel: int) -> bool:
+        """Latched, or a connector of another module within the latch distance (the firmware's
+        isOtherConnectorNearby, as USSR's ATRON answers it)."""
+        if physical_channel in self._connected:
+            return True
+        if not 0 <= physical_channel <= 7 or self.module_id in self.world.stopped:
+            return False
+        gap = self.world.shape.gap(self.module_id, physical_channel)
+        return gap is not None and gap <= params.LATCH_DISTANCE

@@ -18,10 +18,26 @@ LATTICE_UNIT = 0.08  # m per lattice unit; neighbours are (±1, ±1, 0) units ap
 # --- the joint ---------------------------------------------------------------------------
 JOINT_TURN_PERIOD_S = 6.0  # one full turn in 6 s at speed 1
 JOINT_SPEED = 2 * math.pi / JOINT_TURN_PERIOD_S  # rad/s at speed 1
-JOINT_MAX_TORQUE = 3.0  # N·m: one module lifts two others
+# N·m: one module lifts two others. USSR's "realistic" ATRON drives its joint with the same
+# figure (alt-ussr JMEATRONFactory.addCenterActuator: setControlParameters(3f, 2π/6 rad/s),
+# "just able to lift two"); docs/simulator.md.
+JOINT_MAX_TORQUE = 3.0
 JOINT_POSITION_GAIN = 4.0  # 1/s: proportional gain of rotate-to, capped at the joint speed
 JOINT_ANGLE_TOLERANCE_DEG = 1.5  # a rotate-to is done within this angle
 JOINT_DAMPING = 0.0
+# A rotate-to whose error has not shrunk by JOINT_STALL_DEG for JOINT_STALL_S has failed (the load
+# is more than the torque lifts): the joint gives up and holds, and the failure is an event.
+JOINT_STALL_DEG = 2.0
+JOINT_STALL_S = 1.0
+
+# --- changing shape (docs/simulator.md "Structures that change") -----------------------------
+# A male connector latches onto a female one of another module only when their connector points
+# are closer than this: USSR's ATRON (alt-ussr src/ussr/samples/atron/ATRON.java,
+# common.setMaxConnectionDistance(0.03f)). Connector points sit on the shell, under the connector.
+LATCH_DISTANCE = 0.03  # m
+# After a quarter turn, a module's centre is on its lattice cell if it is within this distance of
+# it, in the frame of the entry module (the structure's frame); else the turn has failed.
+SNAP_DISTANCE = 0.02  # m
 
 # --- wheels: rubber ring around the free hemisphere ---------------------------------------
 RING_RADIUS = 0.059  # m: a few mm proud of the 0.055 m shell, so only the ring touches the ground

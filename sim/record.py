@@ -33,6 +33,8 @@ class GifRecorder:
 
     def _paint_roles(self) -> None:
         w = self.world
+        if getattr(self, "_robot", None) is not w.robot:  # new bodies after a change of shape
+            self._robot, self._shown = w.robot, {}
         for mid, runtime in w.runtimes.items():
             if self._shown.get(mid) == runtime.role or mid not in w.robot.shell_visual:
                 continue
@@ -40,7 +42,7 @@ class GifRecorder:
             name = self.roles.name(runtime.role) if runtime.role else None
             rgb = self._colour.get(name or "", NO_ROLE_RGB)
             link, shape = w.robot.shell_visual[mid]
-            pb.changeVisualShape(w.robot.body, link, shapeIndex=shape, rgbaColor=[*rgb, 1.0],
+            pb.changeVisualShape(w.robot.modules[mid].body, link, shapeIndex=shape, rgbaColor=[*rgb, 1.0],
                                  physicsClientId=w.client)
 
     def capture(self) -> None:

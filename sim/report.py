@@ -8,7 +8,7 @@ from collections import Counter
 from typing import TYPE_CHECKING, Any
 
 from rdcd_core.compiler.program import CompiledProgram
-from sim import state_report
+from sim import state_report, structure_report
 from vm.lattice.joint import wrap
 from vm.lattice.structure import AXIS_NAMES, Structure
 from vm.roles import NO_ROLE, RoleTable
@@ -44,6 +44,20 @@ def source_line(program: CompiledProgram, fragment: str | None, pc: int | None) 
     return line or None
 
 
+def source_of(program: CompiledProgram, code: bytes, pc: int | None) -> dict[str, Any]:
+    """Where an instruction of ``code`` at ``pc`` is: its fragment, the offset in it and the
+    program's source line (the parts that are known)."""
+    fragment, offset = locate(program, bytes(code), pc)
+    out: dict[str, Any] = {}
+    if fragment is None:
+        return out
+    out["fragment"], out["pc"] = fragment, offset
+    lines = dict(program.fragment(fragment).source_lines)
+    if offset in lines and lines[offset]:
+        out["line"] = lines[offset]
+    return out
+
+
 def _errors(program: CompiledProgram, rt: Any) -> list[dict[str, Any]]:
     """A module's errors; those of program runs also name the fragment, the pc in it and the
     source line (an out-of-range value or a zero divisor says which line computed it)."""
@@ -77,15 +91,20 @@ def run_options(program: CompiledProgram, structure: Structure, options: Options
 
 
 def build_report(program: CompiledProgram, structure: Structure, roles: RoleTable, options: Options,
-                 run: RunResult, wall_s: float) -> dict[str, Any]:
+                 run: RunResult, wall_s: float, start: Structure | None = None) -> dict[str, Any]:
+    """``structure``: the structure at the end of the run; ``start``: at its start (the same if
+    not given). A module attached during the run starts where it was attached."""
+    start = structure if start is None else start
     modules = []
-    for mid in sorted(structure.modules):
-        spec, rt = structure.modules[mid], run.runtimes[mid]
+    for mid in sorted(run.runtimes):
+        spec = start.modules.get(mid) or structure.modules.get(mid)
+        rt = run.runtimes[mid]
         final_role = role_name(roles, rt.role)
         modules.append({
             "id": mid,
-            "lattice": list(spec.position),
-            "orientation": AXIS_NAMES[spec.axis],
+            "lattice": list(spec.position) if spec else None,
+            "orientation": AXIS_NAMES[spec.axis] if spec else None,
+            **structure_report.module_fields(structure, mid),
             "final_role": final_role,
             **state_report.module_fields(program, rt, final_role),
             "role_history": [[round(t, 3), role_name(roles, r)] for t, r in rt.role_history],
@@ -103,6 +122,7 @@ def build_report(program: CompiledProgram, structure: Structure, roles: RoleTabl
         "messages": {k: run.counters.get(k, 0) for k in ("sent", "delivered", "dropped")}
         | {"not_sent_over_limit": run.counters.get("oversize", 0)},
         "events": run.events,
+        **structure_report.report_fields(structure, run.events),
         "trajectory": tracking.trajectory if tracking else [],
         "obstacles": [{"kind": b.kind, "x": b.x, "y": b.y, "w": b.w, "l": b.l} for b in run.boxes],
         "obstacle_detections": detections,
@@ -143,6 +163,9 @@ def summary(report: dict[str, Any]) -> str:
         f"obstacle detections: {report['obstacle_detections']}",
         *state_report.summary_lines(report),
     ]
+    changed = structure_report.summary_line(report)
+    if changed:
+        lines.append(changed)
     traj = report["trajectory"]
     if traj:
         (x0, y0), (x1, y1) = traj[0][1:3], traj[-1][1:3]

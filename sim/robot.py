@@ -27,8 +27,9 @@ import pybullet as pb
 from sim import geometry as g
 from sim import params
 from sim import shapes as sh
+from sim.poses import Matrix
 from vm import navigation
-from vm.lattice.structure import Structure
+from vm.lattice.structure import ModuleSpec, Structure
 
 Node = tuple[int, int]  # (module id, virtual side PLUS/MINUS)
 MAX_LINKS = 127  # PyBullet's limit per multibody
@@ -46,15 +47,26 @@ class ModuleBody:
     offsets: dict[int, g.Vec3] = field(default_factory=dict)  # side -> centre minus link origin, at start
     joint: int | None = None  # link index of this module's revolute joint, None if not motorised
     wheel_side: int = 0  # virtual side of the rubber-ringed free hemisphere, 0 = not a wheel
+    body: int = -1  # the multibody that holds the module (both hemispheres: its joint joins them)
+    # each hemisphere's frame in its link's frame; absent = identity. A hemisphere's frame is the
+    # lattice frame at its module's creation, so connectors and poles are fixed in it; a link
+    # rebuilt after a change of shape (sim.topology) may hold hemispheres turned against it.
+    frames: dict[int, Matrix] = field(default_factory=dict)
 
 
 @dataclass
 class Robot:
-    body: int
+    body: int  # the entry module's multibody
     modules: dict[int, ModuleBody]
     lift: float
     link_count: int
     shell_visual: dict[int, tuple[int, int]]  # module -> (link, visual shape index) of its sphere
+    bodies: list[int] = field(default_factory=list)  # every multibody; one until the shape changes
+    specs: dict[int, ModuleSpec] = field(default_factory=dict)  # each module as it was created
+
+    def __post_init__(self) -> None:
+        if not self.bodies:
+            self.bodies = [self.body]
 
 
 def wheel_side(structure: Structure, module_id: int) -> int:
@@ -243,7 +255,9 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
         if mb.joint is not None:
             pb.setJointMotorControl2(body, mb.joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
                                      force=params.JOINT_MAX_TORQUE, physicsClientId=client)
-    return Robot(body, modules, lift, n, shell_visual)
+    for mb in modules.values():
+        mb.body = body
+    return Robot(body, modules, lift, n, shell_visual, [body], dict(structure.modules))
 
 
 def _set_dynamics(body: int, inertias: list[g.Vec3], ring_axes: dict[int, int], client: int) -> None:

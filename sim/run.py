@@ -15,7 +15,7 @@ from typing import Any
 from rdcd_core.compiler.program import CompiledProgram
 from sim import params
 from sim.obstacles import Box, parse_obstacle
-from sim.report import build_report
+from sim.report import build_report, source_of
 from vm.isa.targets import TARGETS
 from vm.lattice.structure import Structure
 from vm.packets import PACKET_BUDGET, TYPE_NAMES
@@ -40,6 +40,8 @@ class Options:
     realtime: bool = False  # pace the GUI at wall-clock speed
     vm: str = "default"  # the VM profile every module runs: a name in vm.isa.targets.TARGETS
     recording: Any = None  # a sim.replay.recording.Recording to fill, or None
+    # outside changes (vm.lattice.outside.OutsideChange), validated before the run
+    outside_changes: list[Any] = field(default_factory=list)
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -58,7 +60,7 @@ def simulate(program: CompiledProgram, structure: Structure, options: Options) -
     finally:
         run.close()
     wall = time.perf_counter() - start
-    return build_report(program, structure, run.roles, options, result, wall)
+    return build_report(program, run.structure, run.roles, options, result, wall, start=structure)
 
 
 @dataclass
@@ -71,7 +73,8 @@ class RunResult:
     start_positions: dict[int, tuple[float, float]] = field(default_factory=dict)
 
 
-def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int) -> Callable:
+def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int,
+              program: CompiledProgram | None = None, sources: dict[int, dict] | None = None) -> Callable:
     last_command: list[dict[str, Any]] = [{}]
 
     def record(kind: str, detail: dict[str, Any]) -> None:
@@ -79,7 +82,26 @@ def _recorder(events: list[dict[str, Any]], clock: Callable[[], float], mid: int
             if detail == last_command[0]:
                 return
             last_command[0] = dict(detail)
+        if kind == "action" and program is not None:  # where in the program: fragment, pc, line
+            detail = {k: v for k, v in detail.items() if k not in ("code", "pc")} | \
+                source_of(program, detail.get("code", b""), detail.get("pc"))
+            if sources is not None:
+                sources[mid] = {k: detail[k] for k in ("fragment", "pc", "line") if k in detail}
         events.append({"t": round(clock(), 3), "module": mid, "kind": kind, "detail": dict(detail)})
+    return record
+
+
+# the structure's events that a module's own action caused: they name the action's source line
+_ACTION_RESULTS = frozenset({"connect", "disconnect", "connect_failed", "disconnect_failed", "rotation_start",
+                             "rotation_end", "rotation_failed"})
+
+
+def _change_recorder(events: list[dict[str, Any]], sources: dict[int, dict]) -> Callable:
+    def record(t: float, mid: int, kind: str, detail: dict[str, Any]) -> None:
+        detail = dict(detail)
+        if kind in _ACTION_RESULTS and mid in sources:
+            detail.update(sources[mid])
+        events.append({"t": round(t, 3), "module": mid, "kind": kind, "detail": detail})
     return record
 
 
@@ -132,10 +154,14 @@ class Run:
     def __init__(self, program: CompiledProgram, structure: Structure, options: Options) -> None:
         if options.vm not in TARGETS:
             raise ValueError(f"unknown VM profile {options.vm!r}; known: {', '.join(TARGETS)}")
+        # the run changes its own copy: the caller's structure (a sweep's, a debugger's) stays
+        self.start_structure = structure
+        structure = structure.copy()
         self.program, self.structure, self.options = program, structure, options
         self.boxes = parse_obstacle(options.obstacle)
         self.roles = role_table(program)
         self.events: list[dict[str, Any]] = []
+        self._sources: dict[int, dict] = {}  # per module, where its last action is in the program
         self.done = 0.0  # simulated seconds advanced
         self.world: Any = None
         self.starts: dict[int, tuple[float, float]] = {}
@@ -199,12 +225,18 @@ class Run:
         again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
         world, events = self.world, self.events
         world.network.on_oversize = _oversize_recorder(events)
-        if self.options.world == "lattice":
-            for mid, runtime in world.runtimes.items():
-                runtime.on_event = _recorder(events, world.now, mid)
-            return
+        lattice = self.options.world == "lattice"
+        clock = world.now if lattice else (lambda: world.time)
+        sources = self._sources  # the run's: a copy of the run keeps what its modules asked
+
+        def recorder(mid: int) -> Callable:
+            return _recorder(events, clock, mid, self.program, sources)
         for mid, runtime in world.runtimes.items():
-            runtime.on_event = _recorder(events, lambda: world.time, mid)
+            runtime.on_event = recorder(mid)
+        world.make_recorder = recorder  # for modules attached from outside
+        world.on_change = _change_recorder(events, sources)  # the structure's changes
+        if lattice:
+            return
         world.on_detection = lambda mid, k: events.append(
             {"t": round(world.time, 3), "module": mid, "kind": "sensor", "detail": {"sensor": k}})
 
@@ -214,7 +246,8 @@ class Run:
 
         options, structure = self.options, self.structure
         world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
-                             packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record))
+                             packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record),
+                             changes=options.outside_changes)
         self.world = world
         try:
             runtimes = world.add_runtimes(self.roles, options.seed, TARGETS[options.vm])
@@ -239,7 +272,8 @@ class Run:
         world = LatticeWorld(structure, self.roles, seed=options.seed, packet_loss=options.packet_loss,
                              latency_s=params.IR_LATENCY_S,
                              joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
-                             obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm])
+                             obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm],
+                             changes=options.outside_changes)
         self.world = world
         self.hook_events()
         self._advance = world.advance

@@ -58,3 +58,34 @@ class ModuleHal(Protocol):
 
     def set_led(self, value: int) -> None:
         ...
+
+    # ---- structures that change (docs/simulator.md "Structures that change") ------------------
+    # An action is started by one call and answered by ``action_result``: None while the module's
+    # last action is under way, then 1 (done) or 0 (failed; the world records why). A module
+    # runs one action at a time (its program waits for the answer).
+
+    def connect(self, physical_channel: int) -> None:
+        """Latch male connector ``physical_channel`` onto the female connector that faces it."""
+        ...
+
+    def disconnect(self, physical_channel: int) -> None:
+        """Open the latch of connector ``physical_channel`` (a male one, or one of a same-sex link)."""
+        ...
+
+    def rotate_quarters(self, quarters: int) -> None:
+        """Turn the joint ``quarters`` quarter turns (> 0: the positive, clockwise, direction),
+        carrying everything attached to the turning hemisphere."""
+        ...
+
+    def action_result(self) -> int | None:
+        """None while the last action runs; then 1 if it succeeded, 0 if it failed."""
+        ...
+
+    def is_connected(self, physical_channel: int) -> bool:
+        """Whether connector ``physical_channel`` is latched to a neighbour."""
+        ...
+
+    def other_connector_nearby(self, physical_channel: int) -> bool:
+        """Whether a connector of a module on the adjacent cell faces ``physical_channel``
+        (the firmware's isOtherConnectorNearby)."""
+        ...

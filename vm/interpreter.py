@@ -18,6 +18,7 @@ from enum import Enum
 from typing import Protocol
 
 from vm.isa.opcodes import (
+    ACTIONS,
     ANGLE_STEP,
     BY_OPCODE,
     PUSH_SMALL_BASE,
@@ -48,6 +49,7 @@ class Outcome(Enum):
     ERROR = "error"
     HALT = "halt"  # the module stops (firmware profile): nothing runs or is received any more
     WAIT = "wait"  # END_WAIT: run again when a value of the module changes
+    ACTION = "action"  # CONNECT, DISCONNECT, TURN_QUARTERS: resume, with the result pushed, when done
 
 
 @dataclass
@@ -95,6 +97,9 @@ class Machine(Protocol):
     def run_local(self, code: bytes) -> None: ...
     def load_data(self) -> int: ...
     def store_data(self, value: int) -> None: ...
+    def start_action(self, kind: str, arg: int, code: bytes, pc: int) -> None: ...
+    def is_connected(self, connector: int) -> bool: ...
+    def is_aligned(self, connector: int) -> bool: ...
     def trace(self, frame: Frame, text: str) -> None: ...
 
 
@@ -370,5 +375,15 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "RUN_LOCAL":
         frame.at = at
         m.run_local(_embedded(frame, a[0], a[1]))
+    elif name in ACTIONS:
+        # the world answers later: the runtime resumes the frame and pushes 1 or 0 (the result
+        # counts in the verifier's stack depth like any push)
+        frame.at = at
+        m.start_action(ACTIONS[name], _pop(frame), frame.code, at)
+        return Result(Outcome.ACTION)
+    elif name == "IS_CONNECTED":
+        _push(frame, int(m.is_connected(_pop(frame))), target)
+    elif name == "IS_ALIGNED":
+        _push(frame, int(m.is_aligned(_pop(frame))), target)
     # NOP: nothing
     return None

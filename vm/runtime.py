@@ -187,6 +187,14 @@ class ModuleRuntime(ShapeNode):
     def _due(self, task: Task, now: float) -> bool:
         if task.waiting:
             return False
+        if task.wake_action:
+            result = self.hal.action_result()
+            if result is None:
+                return False
+            task.wake_action = False
+            if task.frame is not None:  # the action's answer: what its instruction pushes
+                task.frame.stack.append(1 if result else 0)
+            return True
         if task.wake_time is not None:
             return now >= task.wake_time
         if task.wake_turns is not None:
@@ -202,6 +210,9 @@ class ModuleRuntime(ShapeNode):
             return
         if result.outcome is Outcome.SLEEP_ROTATIONS:
             task.wake_turns = self.hal.joint_turns() + max(0, result.turns)
+            return
+        if result.outcome is Outcome.ACTION:
+            task.wake_action = True
             return
         if result.outcome is Outcome.REPEAT:
             self.store.tasks.remove(task)
@@ -448,6 +459,24 @@ class ModuleRuntime(ShapeNode):
         at = carried_data_offset(slot.code) if slot is not None else None
         if slot is not None and at is not None:
             slot.code = slot.code[:at] + bytes((value & 0xFF,))
+
+    # ---- connector and joint actions (structures that change) --------------------------------
+    def start_action(self, kind: str, arg: int, code: bytes, pc: int) -> None:
+        """CONNECT, DISCONNECT, TURN_QUARTERS: ask the world; the run waits for its answer. The
+        log entry names the code and the instruction, for the report's source line."""
+        self._log("action", {"action": kind, "arg": arg, "code": code, "pc": pc})
+        if kind == "turn":
+            self.hal.rotate_quarters(arg)
+        elif kind == "connect":
+            self.hal.connect(arg)
+        else:
+            self.hal.disconnect(arg)
+
+    def is_connected(self, connector: int) -> bool:
+        return 0 <= connector <= 7 and self.hal.is_connected(connector)
+
+    def is_aligned(self, connector: int) -> bool:
+        return 0 <= connector <= 7 and self.hal.other_connector_nearby(connector)
 
     def _values_changed(self) -> None:
         self._changed_in_run = True

@@ -43,6 +43,7 @@ class Task:
     wake_time: float | None = None
     wake_turns: float | None = None
     waiting: bool = False  # END_WAIT: until a value of the module changes
+    wake_action: bool = False  # Outcome.ACTION: until the world answers the connector/joint action
 
 
 @dataclass

@@ -4,7 +4,7 @@ evaluated twice; that is how ``==`` is compiled without the EQUALS extension."""
 
 from __future__ import annotations
 
-from rdcd_core.compiler import codes
+from rdcd_core.compiler import codes, connectors
 from rdcd_core.compiler.compare import cjump_compare
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.fold import fold, type_of
@@ -171,6 +171,8 @@ def _query(expr: ast.SelfCall, ctx: Context, out: list[Item]) -> None:
         emit(out, "CONNECTED_DIR", direction or 0, span=expr.span)
     elif name == "center_position":
         materialize(expr, ctx, out)
+    elif name in connectors.OPS:
+        connectors.push(name, expr.args, ctx, out, expr.span)
     else:
         ctx.report(codes.UNSUPPORTED, expr.span, f"'self.{name}' has no value on the DCD-VM")
         emit(out, "PUSH", 0, span=expr.span)

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from rdcd_core.compiler import codes
+from rdcd_core.compiler import codes, connectors
 from rdcd_core.compiler.compare import is_nonnegative
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.exprgen import cjump, const_arg, emit, value
@@ -366,4 +366,5 @@ PRIMITIVE_CODE = {
     "assumeRole": _assume_role,
     **{name: _immediate(op, "the event") for name, op in EVENT_OPS.items()},
     "enableEvent": _enable_event,
+    **{name: connectors.statement(name) for name in connectors.OPS},
 }

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from operator import attrgetter
 
-from rdcd_core.semantics import conflicts, deployment, limits, members, states
+from rdcd_core.semantics import actions, conflicts, deployment, limits, members, states
 from rdcd_core.semantics.bodies import check_bodies
 from rdcd_core.semantics.constants import fold_constants
 from rdcd_core.semantics.context import Context
@@ -28,6 +28,7 @@ def run(program: ast.Program) -> Model:
     members.check_missing_definitions(ctx)
     children = members.children_map(ctx)
     check_bodies(ctx, children)
+    actions.check_positions(ctx, program)
     states.layout(ctx)
     check_recursion(ctx)
     check_inlined_scoping(ctx)

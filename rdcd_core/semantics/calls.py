@@ -3,7 +3,14 @@
 from __future__ import annotations
 
 from rdcd_core import diagnostics as diag
-from rdcd_core.module_api import FUNCTIONS, SELF_PRIMITIVES, Primitive, lookup_function, lookup_self
+from rdcd_core.module_api import (
+    CONNECTOR_CALLS,
+    FUNCTIONS,
+    SELF_PRIMITIVES,
+    Primitive,
+    lookup_function,
+    lookup_self,
+)
 from rdcd_core.semantics import codes, expressions, scoping, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
@@ -201,6 +208,8 @@ def _check_args(env: Env, call: ast.SelfCall | ast.FunctionCall, primitive: Prim
         values.append(_check_arg(env, primitive, index, arg))
     if primitive.values is not None and values and values[0] is not None:
         _check_range(env, primitive, args[0], values[0].value)
+    if primitive.name in CONNECTOR_CALLS and values and values[0] is not None:
+        _check_connector(env, primitive.name, args[0], values[0].value)
     return primitive.result, None
 
 
@@ -233,6 +242,21 @@ def _check_arg(env: Env, primitive: Primitive, index: int, arg: ast.Arg) -> Valu
                        f"{primitive.signature}")
         return None
     return value
+
+
+def _check_connector(env: Env, name: str, arg: ast.Arg, connector: int) -> None:
+    """A constant connector that no ATRON connector is, or a female one asked to latch or unlatch
+    (only male connectors, even numbers, have the hooks: atron.h, docs/module-api.md)."""
+    where = expressions.where(env, arg)
+    if not 0 <= connector <= 7:
+        env.ctx.report(codes.CONNECTOR_NEVER_LATCHES, arg.span,
+                       f"'{name}' needs a physical connector 0..7, but this is {connector}{where}")
+    elif name in ("connect", "disconnect") and connector % 2:
+        env.ctx.report(codes.CONNECTOR_NEVER_LATCHES, arg.span,
+                       f"connector {connector}{where} is female (odd): only a male connector (even) can "
+                       f"{name}; use {connector - 1} or {(connector + 1) % 8}, or have the neighbour's male "
+                       "connector act")
+
 
 
 def _check_range(env: Env, primitive: Primitive, arg: ast.Arg, value: int) -> None:

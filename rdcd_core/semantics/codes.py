@@ -105,6 +105,9 @@ DIVISION_BY_ZERO = define_code(
 BAD_JOINT_VALUE = define_code(
     "E211", _E, "a joint speed or number of turns is out of range (speed -127..127, turns 0..127)",
     "role A { startup s() { self.turnContinuously(-128); } }\ndeployment { A }")
+CONNECTOR_NEVER_LATCHES = define_code(
+    "E220", _E, "a connector argument that can never latch",
+    "role A { startup s() { self.connect(3); } }\ndeployment { A }")
 
 # ----------------------------------------------------------------------------- E3xx calls
 UNKNOWN_METHOD = define_code(
@@ -138,6 +141,9 @@ UNKNOWN_FUNCTION = define_code(
 MISSING_PARENS = define_code(
     "E310", _E, "only zero-argument queries may omit the parentheses",
     "role A { startup s() { self.sleep; } }\ndeployment { A }")
+ACTION_IN_EXPRESSION = define_code(
+    "E320", _E, "a connector or joint action inside an expression",
+    "role A { self.connect(0); }\ndeployment { A }")
 UNUSED_VALUE = define_code(
     "W301", _W, "the value of a query is unused",
     "role A { startup s() { self.y(); } }\ndeployment { A }")

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from rdcd_core import diagnostics as diag
+from rdcd_core.module_api import ACTIONS
 from rdcd_core.semantics import calls, codes, expressions, states
 from rdcd_core.semantics.context import did_you_mean
 from rdcd_core.semantics.env import Env
@@ -23,8 +24,9 @@ def check_statement(env: Env, statement: ast.Stmt) -> None:
         check_block(env, statement)
     elif isinstance(statement, ast.CallStmt):
         type_, _ = calls.check_call(env, statement.call)
-        if type_ is not None and type_ is not Type.VOID:
-            call = statement.call
+        call = statement.call
+        acts = isinstance(call, ast.SelfCall) and call.name.text in ACTIONS
+        if type_ is not None and type_ is not Type.VOID and not acts:
             env.ctx.report(codes.UNUSED_VALUE, call.span,
                            f"the {type_.value} value of '{call.name.text}' is unused; "
                            "use it in a condition or remove the call",

@@ -30,20 +30,37 @@ def physics_sampler(world: Any, structure: Structure) -> Callable[[], list[int]]
     from sim.poses import quat_matrix, to_world
 
     order = sorted(structure.modules)
-    bodies = [world.robot.modules[mid] for mid in order]
-    links = sorted({mb.links[side] for mb in bodies for side in (g.PLUS, g.MINUS)})
-    body, client = world.robot.body, world.client
+    client = world.client
+    last: dict[int, list[int]] = {}  # a module taken away keeps its last pose
+    seen: list[Any] = [None, [], []]  # the robot the link lists below were made for
 
     def sample() -> list[int]:
-        states = dict(zip(links, pb.getLinkStates(body, links, physicsClientId=client), strict=True))
-        row: list[int] = []
-        for mb in bodies:
-            plus, minus = states[mb.links[g.PLUS]], states[mb.links[g.MINUS]]
+        robot = world.robot
+        if seen[0] is not robot:  # new bodies after a change of shape
+            here = [robot.modules[mid] for mid in order if mid in robot.modules]
+            seen[:] = [robot, here, [(b, sorted({mb.links[s] for mb in here if mb.body == b
+                                                  for s in (g.PLUS, g.MINUS)})) for b in robot.bodies]]
+        states = {(b, link): st for b, links in seen[2]
+                  for link, st in zip(links, pb.getLinkStates(b, links, physicsClientId=client), strict=True)}
+        for mb in seen[1]:
+            plus, minus = states[(mb.body, mb.links[g.PLUS])], states[(mb.body, mb.links[g.MINUS])]
             centre = to_world((plus[4], quat_matrix(plus[5])), mb.offsets[g.PLUS])
-            row += [_mm(centre[0]), _mm(centre[1]), _mm(centre[2])]
-            row += quantise_quaternion(plus[5]) + quantise_quaternion(minus[5])
-        return row
+            last[mb.id] = [_mm(centre[0]), _mm(centre[1]), _mm(centre[2])] + \
+                _turned(plus[5], mb.frames.get(g.PLUS)) + _turned(minus[5], mb.frames.get(g.MINUS))
+        return [v for mid in order for v in last[mid]]
     return sample
+
+
+def _turned(q: tuple[float, float, float, float], frame: Any) -> list[int]:
+    """A hemisphere's rotation since the start: its link's, and its own turn in the link."""
+    if frame is None:
+        return quantise_quaternion(q)
+    import numpy as np
+
+    from sim.poses import quat_matrix
+    from sim.shapes import matrix_to_quat
+
+    return quantise_quaternion(matrix_to_quat(np.array(quat_matrix(q)) @ np.array(frame)))
 
 
 def lattice_sampler(world: Any, structure: Structure) -> Callable[[], list[int]]:

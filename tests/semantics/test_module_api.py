@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from rdcd_core.module_api import PRIMITIVES, CallForm, Primitive
+from rdcd_core.module_api import ACTIONS, PRIMITIVES, CallForm, Primitive
 from rdcd_core.types import Type
 
 GOOD = {Type.INT: "1", Type.DIR: "UP", Type.EVENT: "EVENT_PROXIMITY_2", Type.ROLE: "M",
@@ -17,6 +17,8 @@ BAD = {Type.INT: "EAST", Type.DIR: "1", Type.EVENT: "UP", Type.ROLE: "3", Type.B
 def _good(primitive: Primitive) -> list[str]:
     if primitive.name in ("turnTowards", "turnDegrees"):
         return ["30"]
+    if primitive.name in ("connect", "disconnect"):
+        return ["2"]  # a male connector (E220)
     return [GOOD[p.type] for p in primitive.params]
 
 
@@ -25,6 +27,8 @@ def _program(primitive: Primitive, args: list[str]) -> str:
     call = f"{prefix}{primitive.name}({', '.join(args)})"
     if primitive.result is Type.VOID:
         body = f"startup s() {{ {call}; }}"
+    elif primitive.name in ACTIONS:  # an action runs once, where it is written (E320)
+        body = f"startup s() {{ if ({call}) {{ self.sleep(); }} }}"
     elif primitive.result is Type.BOOL:
         body = f"{call};"
     elif primitive.result is Type.AXIS:

@@ -74,6 +74,8 @@ CASES: list[tuple[str, int, str, str]] = [
      "role A { constant n := -1;\n startup s() { self.sleepWhileTurning(n); } }\ndeployment { A }"),
     ("E212", 2, "0", "state a := 5;\nrole A { startup s() { a := a / 0; } }\ndeployment { A }"),
     ("E212", 1, "(k - 2)", "role A { constant k := 2; self.x() % (k - 2) > 0; }\ndeployment { A }"),
+    ("E220", 1, "3", "role A { startup s() { self.connect(3); } }\ndeployment { A }"),
+    ("E320", 1, "self.connect(0)", "role A { self.connect(0); }\ndeployment { A }"),
     # ---- methods, calls, blocks
     ("E301", 1, "turnContinuosly", "role A { startup s() { self.turnContinuosly(1); } }\ndeployment { A }"),
     ("E301", 2, "hepl", "role A { help() { }\n startup s() { self.hepl(); } }\ndeployment { A }"),

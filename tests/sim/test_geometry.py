@@ -24,7 +24,7 @@ def _connector_positions(structure) -> dict[tuple[int, int], np.ndarray]:  # noq
     client = pb.connect(pb.DIRECT)
     try:
         robot = build_robot(structure, client)
-        sensors = Sensors(structure, robot, client)
+        sensors = Sensors(robot, client)
         poses = link_poses(robot.body, {link for link, _, _ in sensors._rays.values()}, client)
         return {key: np.array(to_world(poses[link], origin))
                 for key, (link, origin, _) in sensors._rays.items()}

@@ -18,7 +18,8 @@ from tests.conftest import EXAMPLES
 from tests.sim.helpers import obstacle_program
 
 PROGRAM = str(EXAMPLES / "obstacle_avoidance.rdcd")
-MODULE_KEYS = {"id", "lattice", "orientation", "final_role", "final_state", "state_history",
+MODULE_KEYS = {"id", "lattice", "orientation", "final_lattice", "final_orientation", "final_mount",
+               "final_role", "final_state", "state_history",
                "state_history_omitted", "role_history", "errors"}
 TOP_KEYS = {"world", "config", "duration_s", "seed", "wall_time_s", "real_time_factor", "modules",
             "fragments", "messages", "events", "trajectory", "obstacle_detections", "min_obstacle_distance_m",

@@ -67,6 +67,27 @@ class FakeHal:
     def set_led(self, value: int) -> None:
         self.led = value
 
+    # connector and joint actions: recorded; answered from ``answer`` (None: still under way)
+    answer: int | None = 1
+
+    def connect(self, physical_channel: int) -> None:
+        self.calls.append(("connect", physical_channel))
+
+    def disconnect(self, physical_channel: int) -> None:
+        self.calls.append(("disconnect", physical_channel))
+
+    def rotate_quarters(self, quarters: int) -> None:
+        self.calls.append(("rotate_quarters", quarters))
+
+    def action_result(self) -> int | None:
+        return self.answer
+
+    def is_connected(self, physical_channel: int) -> bool:
+        return physical_channel in self.connected
+
+    def other_connector_nearby(self, physical_channel: int) -> bool:
+        return physical_channel in self.connected
+
 
 @dataclass(frozen=True)
 class Placed:

@@ -163,6 +163,21 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
     _i(78, "MOD", (), 2, 1,
        "pop b, pop a; push a % b = a - b * (a / b), with the sign of a; b = 0 is a runtime error",
        ext=True),
+    # connector and joint actions of structures that change (docs/vm.md "Changing shape"); the
+    # connector c is a physical connector number (even: male, odd: female), as on the firmware
+    _i(90, "CONNECT", (), 1, 1,
+       "pop c; latch male connector c onto the female connector that faces it; the run waits until "
+       "the latch has closed or failed, then pushes 1 (latched) or 0 (failed)", ext=True),
+    _i(91, "DISCONNECT", (), 1, 1,
+       "pop c; open the latch of male connector c; the run waits, then pushes 1 (opened) or 0 "
+       "(failed: c is not latched, or is female with a male partner)", ext=True),
+    _i(92, "IS_CONNECTED", (), 1, 1, "pop c; push b(connector c is latched to a neighbour)", ext=True),
+    _i(93, "IS_ALIGNED", (), 1, 1,
+       "pop c; push b(a connector of a module on the adjacent cell faces connector c)", ext=True),
+    _i(94, "TURN_QUARTERS", (), 1, 1,
+       "pop n; turn the joint n quarter turns (n > 0 clockwise), carrying everything attached to the "
+       "turning hemisphere; the run waits until the turn has ended, then pushes 1 (turned) or 0 "
+       "(blocked: a loop, a collision, the ground)", ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -233,3 +248,6 @@ ANGLES_TO = (-180, 170)  # turnTowards: a multiple of 10 (ANGLE_STEP)
 ANGLES_BY = (-1280, 1270)  # turnDegrees: a multiple of 10, the operand of ROTATE_DEGREES in tens
 ANGLE_STEP = 10
 TURNS = (0, 127)  # sleepWhileTurning
+
+# the actions whose run waits for the world's answer (vm.interpreter Outcome.ACTION)
+ACTIONS = {"CONNECT": "connect", "DISCONNECT": "disconnect", "TURN_QUARTERS": "turn"}

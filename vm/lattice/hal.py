@@ -1,5 +1,6 @@
 """One module's ``vm.hal.ModuleHal`` in a lattice world: links from the structure, proximity from
-obstacle cells, a kinematic joint."""
+obstacle cells, a kinematic joint; connector and joint actions go to the world, which changes the
+structure (``refresh`` is called after every change)."""
 
 from __future__ import annotations
 
@@ -22,6 +23,12 @@ class WorldView(Protocol):
 
     def transmit(self, source: int, physical: int, packet: bytes) -> None: ...
 
+    def act(self, module_id: int, kind: str, arg: int) -> int | None: ...
+
+    def legacy_motion(self, module_id: int) -> None: ...
+
+    def watches(self, module_id: int, both_sides: bool) -> bool: ...
+
 
 class LatticeHal:
     def __init__(self, world: WorldView, module_id: int, joint_speed_deg_s: float) -> None:
@@ -29,10 +36,23 @@ class LatticeHal:
         self.module_id = module_id
         self.joint = Joint(joint_speed_deg_s)
         self.led = 0
-        self._connected = world.structure.connected_channels(module_id)
-        spec = world.structure.modules[module_id]
-        self._position = spec.position
-        self._directions = [world.structure.physical_direction(module_id, p) for p in range(8)]
+        self.result: int | None = 0  # the last action's answer (None while it runs)
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Read this module's links, cell and connector directions from the structure again."""
+        structure, mid = self.world.structure, self.module_id
+        if mid not in structure.modules:  # taken away: nothing attached, nothing seen
+            self._connected = frozenset()
+            self.watch = False
+            return
+        self._connected = structure.connected_channels(mid)
+        # the world hears of this module's older joint commands only while they may matter: a
+        # quarter turn under way, or a joint holding modules on both sides (not yet reported)
+        both = any(c < 4 for c in self._connected) and any(c >= 4 for c in self._connected)
+        self.watch = self.world.watches(mid, both)
+        self._position = structure.modules[mid].position
+        self._directions = [structure.physical_direction(mid, p) for p in range(8)]
 
     def now(self) -> float:
         return self.world.now()
@@ -62,15 +82,42 @@ class LatticeHal:
 
     def rotate_continuously(self, speed: int) -> None:
         self.joint.rotate_continuously(speed)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def rotate_to(self, angle_deg: float) -> None:
         self.joint.rotate_to(angle_deg)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def rotate_by(self, delta_deg: float) -> None:
         self.joint.rotate_by(delta_deg)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def stop_joint(self) -> None:
         self.joint.stop()
 
     def set_led(self, value: int) -> None:
         self.led = value
+
+    # ---- structures that change ------------------------------------------------------------
+    def connect(self, physical_channel: int) -> None:
+        self.result = self.world.act(self.module_id, "connect", physical_channel)
+
+    def disconnect(self, physical_channel: int) -> None:
+        self.result = self.world.act(self.module_id, "disconnect", physical_channel)
+
+    def rotate_quarters(self, quarters: int) -> None:
+        self.result = self.world.act(self.module_id, "turn", quarters)
+
+    def action_result(self) -> int | None:
+        return self.result
+
+    def is_connected(self, physical_channel: int) -> bool:
+        return physical_channel in self._connected
+
+    def other_connector_nearby(self, physical_channel: int) -> bool:
+        structure = self.world.structure
+        return self.module_id in structure.modules and 0 <= physical_channel <= 7 and \
+            structure.facing(self.module_id, physical_channel) is not None

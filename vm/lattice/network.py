@@ -48,7 +48,8 @@ class Network:
         self.counters = Counters()
         self._queue: list[InFlight] = []
         self._seq = 0
-        self._ports = {mid: structure.neighbours(mid) for mid in structure.modules}
+        self._ports: dict[int, dict[int, tuple[int, int]]] = {}
+        self.refresh()
         # an observer of every packet on a connected link (a replay recording); off by default:
         # on_send(now, source, target, physical, packet, dropped)
         self.on_send: Callable[[float, int, int, int, bytes, bool], None] | None = None
@@ -56,9 +57,14 @@ class Network:
         # so): on_oversize(now, source, physical, packet)
         self.on_oversize: Callable[[float, int, int, bytes], None] | None = None
 
+    def refresh(self) -> None:
+        """Read the links again (after the structure changed)."""
+        self._ports = {mid: self.structure.neighbours(mid) for mid in self.structure.modules}
+
     def send(self, now: float, source: int, physical: int, packet: bytes) -> None:
         packet = bytes(packet)
-        peer = self._ports[source].get(physical)
+        ports = self._ports.get(source)
+        peer = ports.get(physical) if ports is not None else None
         if peer is None:
             self.counters.unconnected += 1
             return

@@ -1,17 +1,27 @@
-"""A structure: ATRON modules on lattice places, with their mounts and connections.
+"""A structure: ATRON modules on lattice places, with their mounts and connections — the world's
+one truth about shape (docs/simulator.md "Structures that change").
 
-Validation (``StructureError`` names the offending module): lattice parity of each position
-against its axis (docs/vm.md), no two modules in one place, coordinates that fit the packets'
-signed bytes, explicit connections only between adjacent modules, a connected whole, and an
-entry module at the origin with axis NS and the identity mount (it defines the frame).
+Validation at construction (``StructureError`` names the offending module): lattice parity of
+each position against its axis (docs/vm.md), no two modules in one place, coordinates that fit
+the packets' signed bytes, explicit connections only between adjacent modules, a connected whole,
+and an entry module at the origin with axis NS and the identity mount (it defines the frame).
+
+After construction the structure changes only through its operations (``vm.lattice.changes``):
+latch, unlatch, rotate, add, remove. Each is checked there and returns a ``Change``; an
+impossible operation is a failed ``Change``, never an exception.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+import copy
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 from vm import navigation
+from vm.lattice import changes
+from vm.lattice.geometry import placement
+from vm.lattice.motion import quarter
 from vm.lattice.mount import IDENTITY, Mount
 
 EW, NS, UD = navigation.EAST_WEST, navigation.NORTH_SOUTH, navigation.UP_DOWN
@@ -30,6 +40,9 @@ class ModuleSpec:
     position: Vec
     axis: int
     mount: Mount = IDENTITY
+    # quarter turns (0..3) the physical north hemisphere (connectors 0-3) is turned from the south
+    # one, in the positive joint direction; 0 in every configuration file
+    joint: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +55,24 @@ class Link:
     b_physical: int
 
 
+@dataclass(frozen=True)
+class Snapshot:
+    modules: dict[int, ModuleSpec]
+    ports: dict[int, dict[int, tuple[int, int]]]
+    version: int
+
+
+def directions(spec: ModuleSpec) -> tuple[Vec, ...]:
+    """Structure-frame offset each physical connector 0..7 faces (the north ring turned by the
+    joint's quarters about the module's north axis)."""
+    base = [navigation.offset(spec.axis, spec.mount.virtual_of(p)) for p in range(8)]
+    if spec.joint % 4:
+        north = placement(spec.axis, spec.mount)
+        axis = (north[0][1], north[1][1], north[2][1])  # body +y in the structure frame
+        base[:4] = [quarter(axis, spec.joint, d) for d in base[:4]]
+    return tuple(base)
+
+
 _PARITY_TEXT = {NS: "x, y, z all even", EW: "x, y odd and z even", UD: "y, z odd and x even"}
 
 
@@ -52,7 +83,13 @@ def describe(spec: ModuleSpec) -> str:
 @dataclass
 class Structure:
     """Modules by id, validated on construction (use ``make_structure``). ``neighbours`` and
-    ``links`` give, for each connection, the physical connector of each side."""
+    ``links`` give, for each latched connection, the physical connector of each side.
+
+    It changes only through ``latch``, ``unlatch``, ``rotate``, ``add`` and ``remove`` (each
+    returns a ``vm.lattice.changes.Change``; callbacks in ``listeners`` hear every change that
+    happened). ``ground_z``: the lowest z a module's centre may reach (the plane under the lowest
+    module at construction; None: no ground). ``blocked``: cells no module may enter or sweep
+    through (a world's obstacles)."""
 
     modules: dict[int, ModuleSpec]
     entry: int
@@ -77,6 +114,11 @@ class Structure:
             self._ports[link.a][link.a_physical] = (link.b, link.b_physical)
             self._ports[link.b][link.b_physical] = (link.a, link.a_physical)
         self._check_connected()
+        self._dirs = {mid: directions(spec) for mid, spec in self.modules.items()}
+        self.ground_z: int | None = min(spec.position[2] for spec in self.modules.values())
+        self.blocked: frozenset[Vec] = frozenset()
+        self.listeners: list[Callable[[Any], None]] = []
+        self.version = 0  # counts the changes that happened
 
     # --- queries -------------------------------------------------------------------------
     def ids(self) -> list[int]:
@@ -95,12 +137,54 @@ class Structure:
             for pa, (b, pb) in sorted(ports.items()):
                 if a < b:
                     out.append(Link(a, pa, b, pb))
-        return out
+        return sorted(out, key=lambda k: (k.a, k.a_physical))
 
     def physical_direction(self, module_id: int, physical: int) -> Vec:
         """Lattice offset, in the structure frame, that physical connector ``physical`` faces."""
+        return self._dirs[module_id][physical]
+
+    def module_at(self, cell: Vec) -> int | None:
+        return self._by_position.get(tuple(cell))  # type: ignore[arg-type]
+
+    def facing(self, module_id: int, physical: int) -> tuple[int, int] | None:
+        """(module, its physical connector) that faces connector ``physical`` of ``module_id``
+        across the adjacent cell, latched or not; None if that cell is empty."""
         spec = self.modules[module_id]
-        return navigation.offset(spec.axis, spec.mount.virtual_of(physical))
+        d = self._dirs[module_id][physical]
+        other = self._by_position.get((spec.position[0] + d[0], spec.position[1] + d[1],
+                                       spec.position[2] + d[2]))
+        if other is None:
+            return None
+        back = (-d[0], -d[1], -d[2])
+        return other, self._dirs[other].index(back)
+
+    def physical_map(self, module_id: int) -> tuple[int, ...]:
+        """Physical connector at each virtual channel 0..7 (the mount's map when the joint is at
+        quarter 0; the north ring turned with the joint otherwise)."""
+        spec, dirs = self.modules[module_id], self._dirs[module_id]
+        return tuple(dirs.index(navigation.offset(spec.axis, v)) for v in range(8))
+
+    def parts(self) -> list[frozenset[int]]:
+        """The connected parts (by latched links), each once, ordered by their lowest id."""
+        seen: set[int] = set()
+        out = []
+        for mid in sorted(self.modules):
+            if mid not in seen:
+                part = self.part_of(mid)
+                seen |= part
+                out.append(part)
+        return out
+
+    def part_of(self, module_id: int, *, without: int | None = None) -> frozenset[int]:
+        """Modules reachable from ``module_id`` over latched links (not passing ``without``)."""
+        seen = {module_id}
+        todo = [module_id]
+        while todo:
+            for other, _ in self._ports[todo.pop()].values():
+                if other not in seen and other != without:
+                    seen.add(other)
+                    todo.append(other)
+        return frozenset(seen)
 
     def free_hemisphere(self, module_id: int) -> int | None:
         """0 if only the physical north hemisphere (connectors 0-3) is unconnected, 1 if only the
@@ -108,6 +192,54 @@ class Structure:
         used = {p // 4 for p in self._ports[module_id]}
         free = {0, 1} - used
         return free.pop() if len(free) == 1 else None
+
+    # --- operations (checked in vm.lattice.changes) ----------------------------------------
+    def latch(self, module_id: int, physical: int) -> Any:
+        return changes.latch(self, module_id, physical)
+
+    def unlatch(self, module_id: int, physical: int) -> Any:
+        return changes.unlatch(self, module_id, physical)
+
+    def rotate(self, module_id: int, quarters: int, *, moving: int | None = None,
+               apply: bool = True) -> Any:
+        return changes.rotate(self, module_id, quarters, moving=moving, apply=apply)
+
+    def add(self, spec: ModuleSpec) -> Any:
+        return changes.add(self, spec)
+
+    def remove(self, module_id: int) -> Any:
+        return changes.remove(self, module_id)
+
+    def snapshot(self) -> Snapshot:
+        """Everything that changes, to give back to ``restore`` (the debugger's step back)."""
+        return Snapshot(dict(self.modules), {m: dict(p) for m, p in self._ports.items()}, self.version)
+
+    def copy(self) -> Structure:
+        """An independent structure in the same shape (no listeners): a run changes its own."""
+        clone = copy.copy(self)
+        clone.listeners = []
+        clone.restore(self.snapshot())
+        return clone
+
+    def restore(self, snap: Snapshot) -> None:
+        self.modules = dict(snap.modules)
+        self._ports = {m: dict(p) for m, p in snap.ports.items()}
+        self._by_position = {spec.position: mid for mid, spec in self.modules.items()}
+        self._dirs = {mid: directions(spec) for mid, spec in self.modules.items()}
+        self.version = snap.version
+
+    def check_invariants(self) -> None:
+        """Raise AssertionError if two modules share a cell or a link does not join two facing
+        connectors of adjacent modules (tests call this after every operation)."""
+        cells = [spec.position for spec in self.modules.values()]
+        assert len(set(cells)) == len(cells), "two modules in one cell"
+        assert self._by_position == {s.position: m for m, s in self.modules.items()}
+        for spec in self.modules.values():
+            _check_module(spec)
+        for a, ports in self._ports.items():
+            for pa, (b, pb) in ports.items():
+                assert self._ports[b].get(pb) == (a, pa), f"link {a}.{pa}-{b}.{pb} one-sided"
+                assert self.facing(a, pa) == (b, pb), f"link {a}.{pa}-{b}.{pb} does not face"
 
     # --- validation ----------------------------------------------------------------------
     def _check_entry(self) -> None:
