@@ -5,7 +5,7 @@ that are exact on a target whose instruction counts wrongly or halts for some ax
 
 The original firmware's CONNECTED_DIR_SIZEOF pushes the number of bits set *in the count*
 (0, 1, 2, 3, 4 connections read 0, 1, 1, 2, 1); this project's VM pushes the count itself. Code
-for the original target must decide alike on both profiles (tests/vm/test_original_target_property),
+for the original target must decide alike on both profiles (tests/vm/test_original_target_property.py),
 so a comparison ``sizeof(self.connected(d)) op k`` is compiled as a test of the reading only when
 the test is exact under both readings, over the counts that can occur in the reachable states; no
 such test exists when a count that makes it true and one that makes it false can push the same

@@ -198,7 +198,7 @@ def _roles_everywhere(program, runner, axis: int = 1) -> list[tuple]:
 
 
 def test_original_code_for_counts_decides_alike_on_both_profiles():
-    """Regression (tests/vm/test_original_target_property): ``sizeof(self.connected(EAST)) == 3``
+    """Regression (tests/vm/test_original_target_property.py): ``sizeof(self.connected(EAST)) == 3``
     was compiled as ``CONNECTED_DIR_SIZEOF; PUSH 1; GREATER``, exact on the firmware (3 reads 2)
     but true for 2 connections on this project's VM, so modules took different roles on the two
     profiles. Every count comparison on an EW module, compiled for the original target, must now
