@@ -91,11 +91,30 @@ def prepare(args: dict[str, Any]) -> Launch:
         text = read_source(program_path)
     except InputError as e:
         raise LaunchError(f"launch: {e}") from None
+    changes = _changes(args.get("changes", []), structure, namespace)
     program, methods = _compile(program_path, text, target or vm)
     options = Options(world=world, config=config, obstacle=namespace.obstacle, duration=namespace.duration,
-                      seed=seed, packet_loss=namespace.packet_loss, vm=vm)
+                      seed=seed, packet_loss=namespace.packet_loss, vm=vm, outside_changes=changes)
     return Launch(os.path.abspath(program_path), text, program, structure, options, stop_on_entry, no_debug,
                   methods)
+
+
+def _changes(raw: Any, structure: Structure, namespace: argparse.Namespace) -> list:
+    """The launch's "changes": outside changes as ``rdcd simulate --change`` takes them."""
+    from sim.cli_simulate import physics_takes_changes
+    from vm.lattice.outside import ChangeError, parse_all, validate
+
+    if not isinstance(raw, list) or not all(isinstance(c, str) for c in raw):
+        raise LaunchError(f"launch: 'changes' must be a list of strings such as \"20s:detach 3\", "
+                          f"not {raw!r}")
+    try:
+        changes = parse_all(raw)
+        if changes and namespace.world == "physics" and not physics_takes_changes():
+            raise ChangeError("this build's physics world does not take outside changes yet; use the lattice")
+        validate(changes, structure, namespace.duration)
+    except ChangeError as e:
+        raise LaunchError(f"launch: changes: {e}") from None
+    return changes
 
 
 def _compile(path: str, text: str, target: str) -> tuple[CompiledProgram, list]:

@@ -254,7 +254,7 @@ def run(args: argparse.Namespace) -> int:
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
                       progress=_progress_bar(), realtime=args.gui, vm=args.vm, recording=recording,
-                      changes=changes)
+                      outside_changes=changes)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui

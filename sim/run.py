@@ -40,7 +40,7 @@ class Options:
     vm: str = "default"  # the VM profile every module runs: a name in vm.isa.targets.TARGETS
     recording: Any = None  # a sim.replay.recording.Recording to fill, or None
     # outside changes (vm.lattice.outside.OutsideChange), validated before the run
-    changes: list[Any] = field(default_factory=list)
+    outside_changes: list[Any] = field(default_factory=list)
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -226,7 +226,8 @@ class Run:
         from sim.world import PhysicsWorld
 
         options, structure = self.options, self.structure
-        extra = {"changes": options.changes} if options.changes else {}  # the physics world's (i23p)
+        # outside changes in the physics world are that world's to make (i23p)
+        extra = {"changes": options.outside_changes} if options.outside_changes else {}
         world = PhysicsWorld(structure, obstacles=self.boxes, seed=options.seed,
                              packet_loss=options.packet_loss, gui=options.gui, visuals=bool(options.record),
                              **extra)
@@ -255,7 +256,7 @@ class Run:
                              latency_s=params.IR_LATENCY_S,
                              joint_speed_turns_per_s=1 / params.JOINT_TURN_PERIOD_S,
                              obstacles=_lattice_cells(self.boxes, structure), target=TARGETS[options.vm],
-                             changes=options.changes)
+                             changes=options.outside_changes)
         self.world = world
         self.hook_events()
         self._advance = world.advance

@@ -27,6 +27,8 @@ class WorldView(Protocol):
 
     def legacy_motion(self, module_id: int) -> None: ...
 
+    def watches(self, module_id: int, both_sides: bool) -> bool: ...
+
 
 class LatticeHal:
     def __init__(self, world: WorldView, module_id: int, joint_speed_deg_s: float) -> None:
@@ -42,8 +44,13 @@ class LatticeHal:
         structure, mid = self.world.structure, self.module_id
         if mid not in structure.modules:  # taken away: nothing attached, nothing seen
             self._connected = frozenset()
+            self.watch = False
             return
         self._connected = structure.connected_channels(mid)
+        # the world hears of this module's older joint commands only while they may matter: a
+        # quarter turn under way, or a joint holding modules on both sides (not yet reported)
+        both = any(c < 4 for c in self._connected) and any(c >= 4 for c in self._connected)
+        self.watch = self.world.watches(mid, both)
         self._position = structure.modules[mid].position
         self._directions = [structure.physical_direction(mid, p) for p in range(8)]
 
@@ -75,15 +82,18 @@ class LatticeHal:
 
     def rotate_continuously(self, speed: int) -> None:
         self.joint.rotate_continuously(speed)
-        self.world.legacy_motion(self.module_id)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def rotate_to(self, angle_deg: float) -> None:
         self.joint.rotate_to(angle_deg)
-        self.world.legacy_motion(self.module_id)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def rotate_by(self, delta_deg: float) -> None:
         self.joint.rotate_by(delta_deg)
-        self.world.legacy_motion(self.module_id)
+        if self.watch:
+            self.world.legacy_motion(self.module_id)
 
     def stop_joint(self) -> None:
         self.joint.stop()

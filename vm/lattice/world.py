@@ -224,6 +224,7 @@ class LatticeWorld:
             return 1
         joint = self.hals[mid].joint
         self._turning[mid] = (arg, check.moving, joint.turns)
+        self.hals[mid].watch = True
         joint.rotate_by(90.0 * arg)
         self.note(mid, "rotation_start", {"quarters": arg, "moving": _HEMISPHERES[check.moving or 0],
                                           "carried": list(check.moved)})
@@ -241,6 +242,7 @@ class LatticeWorld:
             if hal.joint.is_turning():
                 continue
             del self._turning[mid]
+            hal.refresh()
             done = abs(hal.joint.turns - start) * 4
             change = None
             if abs(done - abs(quarters)) < 1e-6:
@@ -255,6 +257,10 @@ class LatticeWorld:
                                                "interrupted", "reason": reason})
             hal.result = 0
 
+    def watches(self, mid: int, both_sides: bool) -> bool:
+        """Whether ``mid``'s hal must tell ``legacy_motion`` of its older joint commands."""
+        return mid in self._turning or (both_sides and mid not in self._unmodelled)
+
     def legacy_motion(self, mid: int) -> None:
         """After an older joint command: it ends a quarter turn under way (which fails: the
         structure did not move); a joint holding modules on both hemispheres that it sets turning
@@ -263,6 +269,7 @@ class LatticeWorld:
         if mid in self._turning:
             quarters = self._turning.pop(mid)[0]
             hal.result = 0
+            hal.refresh()
             self.note(mid, "rotation_failed", {"quarters": quarters, "cause": "interrupted",
                                                "reason": "a joint command ended the quarter turn"})
         if mid in self._unmodelled or mid not in self.structure.modules or not hal.joint.is_turning():
@@ -270,6 +277,7 @@ class LatticeWorld:
         connected = hal.connected_channels()
         if any(c < 4 for c in connected) and any(c >= 4 for c in connected):
             self._unmodelled.add(mid)
+            hal.watch = False
             self.note(mid, "joint_unmodelled", {"reason": "the joint holds modules on both hemispheres; "
                                                 "the lattice world turns only its angle (use turnQuarters "
                                                 "to move them)"})
