@@ -8,7 +8,8 @@ A world creates ``ModuleRuntime(hal, role_table, module_id=...)`` per module, ca
 the optional hook ``on_event(kind, detail)`` (for the story of a run with code locations, attach a
 ``vm.observer.RuntimeObserver`` as ``observer`` instead); kinds: "role", "handler" (an event handler fired: a
 detection), "command" (a command executed here), "program" (a program stored and queued),
-"error", "trace" (ACTIVATE_DEBUG).
+"error", "trace" (ACTIVATE_DEBUG), "links" (the module's connections changed: connectors lost and
+gained; what follows is ``vm.runtime_shape``).
 
 Packets, diffusion and their fault tolerance (docs/vm.md) are the module's network side,
 ``vm.runtime_node.ModuleNode``; this module adds the scheduler and the ``vm.interpreter.Machine``
@@ -55,8 +56,9 @@ from vm.isa.opcodes import (
 from vm.isa.targets import DEFAULT, Target
 from vm.packets import NOTIFY, VALUE, ValuePacket, encode, make_header
 from vm.roles import RoleTable
-from vm.runtime_node import MAX_LOG, ModuleNode
-from vm.runtime_store import HANDLER, LOCAL, USER_COMMAND, Slot, StoreFull, Task
+from vm.runtime_node import MAX_LOG
+from vm.runtime_shape import ShapeNode
+from vm.runtime_store import HANDLER, LOCAL, RERUN, USER_COMMAND, Slot, StoreFull, Task
 from vm.runtime_store import PROGRAM as PROGRAM_SLOT
 
 
@@ -71,7 +73,7 @@ class RunError:
     halted: bool
 
 
-class ModuleRuntime(ModuleNode):
+class ModuleRuntime(ShapeNode):
     def __init__(self, hal: ModuleHal, role_table: RoleTable, *, module_id: int, seed: int = 0,
                  checksum: bool = False, target: Target = DEFAULT) -> None:
         super().__init__(hal, role_table, module_id=module_id, seed=seed, checksum=checksum, target=target)
@@ -96,7 +98,7 @@ class ModuleRuntime(ModuleNode):
         return not self.halted and bool(self._inbox or self.link.outbox
                                         or any(not t.waiting for t in self.store.tasks)
                                         or (events and any(v is not None for v in self.store.vectors))
-                                        or self._lost_neighbour())
+                                        or self._lost_neighbour() or self.links_changed())
 
     def stats(self) -> dict[str, int]:
         """Counters for reports: packets sent (with retries), retransmissions, duplicates..."""
@@ -110,6 +112,7 @@ class ModuleRuntime(ModuleNode):
         if self.halted:
             return
         try:
+            self._watch_links()
             while self._inbox:
                 self._handle_packet(*self._inbox.popleft())
             self.link.tick()
@@ -199,6 +202,8 @@ class ModuleRuntime(ModuleNode):
 
     def _finish(self, task: Task, result: Result) -> None:
         slot = task.slot
+        if slot is not None and slot.kind == RERUN and result.outcome in (Outcome.REPEAT, Outcome.WAIT):
+            result = Result(Outcome.TERMINATE)  # a round runs each program once
         if result.outcome is Outcome.SLEEP:
             task.wake_time = self.hal.now() + 1.0
             return
@@ -220,11 +225,15 @@ class ModuleRuntime(ModuleNode):
             task.waiting = not self._changed_in_run
             return
         self.store.tasks.remove(task)
-        if result.outcome is Outcome.MIGRATE and slot is not None:
+        if result.outcome is Outcome.MIGRATE and slot is not None and slot.kind != RERUN:
             self._migrate(slot)
         elif result.outcome in (Outcome.ERROR, Outcome.HALT):
             self._run_error(task, result)
         self.store.release_after_run(slot)
+        if slot is not None and slot.kind == PROGRAM_SLOT:
+            self._keep(slot)
+        elif slot is not None and slot.kind == RERUN:
+            self._round_next()
 
     def _run_error(self, task: Task, result: Result) -> None:
         halted = result.outcome is Outcome.HALT
@@ -284,6 +293,8 @@ class ModuleRuntime(ModuleNode):
         return nav.channels_facing(self.axis, direction) if self.axis else 0
 
     def has_role(self, role: int) -> bool:
+        if self.in_round():  # the role taken in this round of discovery (vm.runtime_shape)
+            return self.roles.is_instance(self._round.taken, role)  # type: ignore[union-attr]
         return self.roles.is_instance(self.role, role)
 
     def connected_role(self, direction: int, role: int) -> int:
@@ -291,7 +302,10 @@ class ModuleRuntime(ModuleNode):
         return sum(1 << v for v in range(8)
                    if mask >> v & 1 and self.roles.is_instance(self.neighbour_roles[v], role))
 
-    def set_role_notify(self, role: int) -> None:
+    def set_role_notify(self, role: int) -> bool | None:
+        """False: the run stops here (a round of discovery found the role the module plays)."""
+        if self.in_round() and not self._round_role(role):
+            return False
         if role == self.role == 0:
             return  # a module without a role has nothing new to announce (a re-check found none)
         if role != self.role:
@@ -306,7 +320,7 @@ class ModuleRuntime(ModuleNode):
 
     def handle_event(self, event: int, code: bytes) -> None:
         try:
-            slot = self.store.add_slot(Slot(code, self._local_id(), HANDLER))
+            slot = self.store.add_slot(Slot(code, self._local_id(), HANDLER, role=self.role))
         except StoreFull as e:
             self._error(f"HANDLE_EVENT {event}: {e}")
             return
@@ -483,6 +497,9 @@ class ModuleRuntime(ModuleNode):
                 self.neighbour_cache[v] = [None] * PUBLISHED_SLOTS
                 self.neighbour_is_child[v] = False
                 self._values_changed()
+
+    def _take_role(self, role: int) -> None:
+        self.set_role_notify(role)
 
     def trace(self, frame: Frame, text: str) -> None:
         self._log("trace", {"text": text})

@@ -98,6 +98,7 @@ class ModuleNode:
         self.neighbour_cache: list[list[int | None]] = [[None] * PUBLISHED_SLOTS for _ in range(8)]
         self.neighbour_is_child = [False] * 8
         self.parent_channel: int | None = None
+        self.origin = False  # programs are injected here: the origin of the coordinates
         self._keeps_values = False  # a value packet has arrived (lost neighbours are then watched)
         self._value_seq: dict[tuple[int, int], int] = {}  # (physical channel, state) → last id
         self.store = Store(capacity=target.program_slots, slot_bytes=target.slot_bytes)
@@ -110,6 +111,7 @@ class ModuleNode:
         self._notify_seq: dict[int, int] = {}  # physical channel → last notify id
         self._reported: set[object] = set()
         self._next_inject_id = 1
+        self._arrivals = 0  # programs accepted
         self._next_local_id = self.rng.randrange(256)
 
     # ---- world interface -------------------------------------------------------------------
@@ -130,6 +132,7 @@ class ModuleNode:
         """Enter a fragment here; the first injection defines the frame (origin, NS, identity)."""
         if self.position is None:
             self._set_frame((0, 0, 0), nav.NORTH_SOUTH, nav.IDENTITY)
+        self.origin = True
         ident = self._next_inject_id
         self._next_inject_id = (ident + 1) & 0xFF
         try:
@@ -160,8 +163,9 @@ class ModuleNode:
         if nav.axis_for_position(h.x, h.y, h.z) != h.r:
             self.bad_packets += 1  # corrupted header: stay silent, the sender retries
             return
-        if self.position is None:
+        if self.position is None or self._teaches(ch):
             self._set_frame((h.x, h.y, h.z), h.r, nav.virtual_to_physical(h.vch, ch))
+            self._frame_learned(ch)
         if isinstance(p, ProgramPacket):
             if self._accept_program(p.code, h.id, ch, h.vch):
                 self.link.send_ack(ch, raw)
@@ -193,6 +197,7 @@ class ModuleNode:
             self._error_once(("full", key), f"program {ident} not accepted: {e}")
             return False
         self._seen_programs.add(key)
+        slot.arrival, self._arrivals = self._arrivals, self._arrivals + 1
         if self.parent_channel is None and ch is not None:  # the tree: who first brought a program
             self.parent_channel = ch
         self._log("program", {"id": ident, "size": len(code)})
@@ -219,6 +224,7 @@ class ModuleNode:
         if self.neighbour_roles[v] != p.role:
             self.neighbour_roles[v] = p.role
             self._values_changed()
+            self._neighbour_role_changed()
 
     def _accept_value(self, p: ValuePacket, ch: int) -> None:
         key = (ch, p.index)
@@ -236,6 +242,16 @@ class ModuleNode:
 
     def _values_changed(self) -> None:
         """A state or a neighbour's value changed: programs waiting in END_WAIT run again."""
+
+    def _neighbour_role_changed(self) -> None:
+        """A neighbour announced another role (``vm.runtime_shape`` checks roles that read it)."""
+
+    def _frame_learned(self, ch: int) -> None:
+        """A packet on ``ch`` gave the module its coordinates (``vm.runtime_shape``)."""
+
+    def _teaches(self, ch: int) -> bool:
+        """Whether a packet arriving on ``ch`` gives a module that has a frame a new one."""
+        return False
 
     # ---- sending ---------------------------------------------------------------------------
     def _send_all(self, type_: int, ident: int, body: bytes, exclude: int | None) -> None:

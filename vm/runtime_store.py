@@ -14,6 +14,7 @@ SLOTS = PROGRAM_SLOTS
 QUEUE = 10
 VECTORS = 8
 PROGRAM, HANDLER, USER_COMMAND, LOCAL = "program", "handler", "command", "local"
+RERUN = "rediscovery"  # a kept program run again after a connection change (vm.runtime_shape)
 
 
 class StoreFull(Exception):
@@ -29,6 +30,8 @@ class Slot:
     context: tuple[int, int, int, int, int | None] | None = None  # x, y, z, r, incoming virtual
     refs: int = 0  # command-table entries pointing here
     started: bool = False  # has run at least once
+    role: int = 0  # a handler: the role the module played when it installed it (vm.runtime_shape)
+    arrival: int = 0  # a program: how many programs the module accepted before it
 
 
 @dataclass(eq=False)
@@ -114,7 +117,7 @@ class Store:
         """A run of ``slot`` ended for good: free it unless something still needs it."""
         if slot is None or self._slot_in_use(slot):
             return
-        if slot.kind in (PROGRAM, LOCAL):
+        if slot.kind in (PROGRAM, LOCAL, RERUN):
             self.free_slot(slot)
         elif slot.kind == HANDLER and not any(v is not None and v.slot is slot for v in self.vectors):
             self.free_slot(slot)

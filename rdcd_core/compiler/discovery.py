@@ -19,6 +19,7 @@ from rdcd_core.compiler.exprgen import cjump, emit
 from rdcd_core.compiler.fold import fold, local_shape, type_of, vector_of
 from rdcd_core.compiler.geometry import ALL_STATES, LOCAL_STATES
 from rdcd_core.compiler.ir import Body, Ins, Item, Label, code_size
+from rdcd_core.compiler.priority import Guard
 from rdcd_core.syntax import ast
 from rdcd_core.types import Type
 
@@ -149,12 +150,18 @@ def role_mask(exprs: list[ast.Node], ctx: Context, *, local_only: bool = False) 
 
 
 def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: int,
-               prologue: list[Item] | tuple = ()) -> list[Item]:
+               prologue: list[Item] | tuple = (), guard: Guard | None = None) -> list[Item]:
+    """``guard`` (``plan.Planner.guard``): whether a role deployed before the group can hold where
+    one of its roles holds, and whether the group must wait for such a role's fragment."""
     out: list[Item] = list(prologue)
     migrate = Label("migrate")
     paths = ALL_STATES
-    if any(observes_roles(ctx) for ctx in ctxs):
-        emit(out, "SLEEP", span=ctxs[0].model.roles[ctxs[0].role].decl.name.span)
+    first_span = ctxs[0].model.roles[ctxs[0].role].decl.name.span
+    if any(observes_roles(ctx) for ctx in ctxs) or (guard is not None and guard.waits):
+        emit(out, "SLEEP", span=first_span)
+    if guard is not None and guard.guarded:  # first role wins: a module that took one keeps it
+        emit(out, "HAS_ROLE", 0, span=first_span)
+        emit(out, "IF_FALSE_GOTO", migrate, span=first_span)
     for expr in invariants(ctxs[0])[:common]:
         paths = emit_test(expr, ctxs[0], migrate, paths, out)
     for ctx in ctxs:
@@ -173,7 +180,7 @@ def group_code(ctxs: list[Context], placed: dict[str, list[EntryItem]], common: 
         if mask is not None:
             paths &= ~mask
     out.append(migrate)
-    emit(out, "MIGRATE_CONTINUE", span=ctxs[0].model.roles[ctxs[0].role].decl.name.span)
+    emit(out, "MIGRATE_CONTINUE", span=first_span)
     return out
 
 

@@ -18,6 +18,7 @@ from rdcd_core.compiler.discovery import (
     common_prefix,
     continuation_code,
     group_code,
+    observes_roles,
     reads_state,
     watched_code,
 )
@@ -25,6 +26,7 @@ from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, st
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
 from rdcd_core.compiler.peephole import optimise
+from rdcd_core.compiler.priority import Guard, earlier_overlapping
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -44,6 +46,8 @@ class Planner:
     suffixes: dict[str, int] = field(default_factory=dict)  # name -> the last suffix taken
     prologue: list[Item] = field(default_factory=list)  # code the first fragment starts with
     trailer: bytes = b""  # what the first fragment ends with: DATA, the value it carries
+    deployment: list[str] = field(default_factory=list)
+    waiting: set[str] = field(default_factory=set)  # roles whose discovery fragment starts with SLEEP
 
     # optimised trial code by what it is made of (``Makeup``): a fragment is added with the code of
     # its last successful trial, made again, and that is not optimised a second time
@@ -56,6 +60,14 @@ class Planner:
         if done is None:
             done = self.optimised[makeup] = optimise(code)
         return done
+
+    def guard(self, group: list[str]) -> Guard:
+        """Whether the fragment of ``group`` must leave modules that took an earlier deployed role
+        alone (``priority``), and wait for that role's fragment."""
+        earlier = self.deployment[:self.deployment.index(group[0])] if group[0] in self.deployment else []
+        overlapping = {other.role for role in group
+                       for other in earlier_overlapping(self.ctxs[role], [self.ctxs[r] for r in earlier])}
+        return Guard(bool(overlapping), bool(overlapping & self.waiting))
 
     def size(self, code: list[Item], makeup: Makeup | None = None) -> int:
         return laid_out_size(self.optimise(code, makeup))
@@ -115,7 +127,7 @@ def can_group(planner: Planner, group: list[str]) -> bool:
     if any(depends_on(ctx, group) for ctx in ctxs):
         return False
     common = common_prefix(ctxs)
-    return common > 0 and planner.fits(group_code(ctxs, {}, common))
+    return common > 0 and planner.fits(group_code(ctxs, {}, common, guard=planner.guard(group)))
 
 
 def form_groups(planner: Planner, deployment: list[str]) -> list[list[str]]:
@@ -131,6 +143,9 @@ def form_groups(planner: Planner, deployment: list[str]) -> list[list[str]]:
 def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryItem]]) -> None:
     ctxs = [planner.ctxs[r] for r in group]
     common = common_prefix(ctxs) if len(group) > 1 else 0
+    guard = planner.guard(group)
+    if guard.waits or any(observes_roles(ctx) for ctx in ctxs):
+        planner.waiting.update(group)
     placed: dict[str, list[EntryItem]] = {r: [] for r in group}
     rest: dict[str, list[EntryItem]] = {}
     for role in group:
@@ -138,7 +153,7 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
         taken = 0
         while taken < len(pending):
             placed[role].append(pending[taken])
-            if not planner.fits(group_code(ctxs, placed, common, planner.prologue),
+            if not planner.fits(group_code(ctxs, placed, common, planner.prologue, guard),
                                 _makeup("discovery", placed)):
                 placed[role].pop()
                 break
@@ -148,7 +163,7 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     span = model.roles[group[0]].decl.name.span
     methods = [item.method for role in group for item in placed[role]]
     planner.add("discover_" + "_".join(group), "discovery", group,
-                group_code(ctxs, placed, common, planner.prologue), span, methods,
+                group_code(ctxs, placed, common, planner.prologue, guard), span, methods,
                 _makeup("discovery", placed))
     planner.prologue = []
     planner.budget += len(planner.trailer)  # only the first fragment carries it
@@ -199,7 +214,8 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
          prologue: list[Item] | None = None, trailer: bytes = b"") -> Planner:
-    planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer)
+    planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer,
+                      deployment=list(deployment))
     if any(reads_state(ctx) for ctx in ctxs.values()):
         for ctx in ctxs.values():
             ctx.watched = True

@@ -182,7 +182,7 @@ DISCOVERY_CYCLE = define_code(
     "role A { sizeof(connected_role(UP, B)) > 0; }\n"
     "role B { sizeof(connected_role(DOWN, A)) > 0; }\ndeployment { A, B }")
 ROLE_CONFLICT = define_code(
-    "W503", _W, "two deployed roles can hold on the same module",
+    "W503", _W, "two deployed roles can hold on the same module: it takes the first deployed",
     "role A { self.y() > 0; }\nrole B { self.center_position == EAST_WEST; }\n"
     "deployment { A, B }")
 NEVER_HOLDS = define_code(

@@ -265,9 +265,10 @@ def _report(ctx: Context, seen: dict[str, ast.Name], space: StateSpace, role: Ro
     if other.decl is not None:
         related.append(diag.Related(other.decl.name.span, f"role '{other.name}'"))
     ctx.report(codes.ROLE_CONFLICT, seen[role.name].span,
-               f"'{role.name}' and '{other.name}' can both hold on one module (e.g. {witness}), "
-               "so the role it takes depends on the discovery order; add an invariant that tells "
-               "them apart", related=related)
+               f"'{role.name}' and '{other.name}' can both hold on one module (e.g. {witness}); "
+               f"such a module takes '{other.name}', the first of the two in the deployment, "
+               f"never '{role.name}'; add an invariant that tells them apart if it should take "
+               f"'{role.name}'", related=related)
 
 
 def _report_never(ctx: Context, seen: dict[str, ast.Name], role: RoleSymbol, refs: list[str],

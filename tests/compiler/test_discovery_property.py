@@ -1,5 +1,7 @@
-"""Property: compiled discovery code takes exactly the role whose invariants hold, in every local
-state, despite the state-space simplification of its tests (run on the real interpreter)."""
+"""Property: compiled discovery code takes exactly the first deployed role whose invariants hold
+(docs/language.md), in every local state, despite the state-space simplification of its tests and
+also where several roles hold (run on the real interpreter, the fragments one after another on one
+module as they arrive)."""
 
 from __future__ import annotations
 
@@ -39,6 +41,9 @@ class FakeModule:
     def set_role_notify(self, role):
         self.role = role
 
+    def has_role(self, role):
+        return self.role == role  # the generated roles extend only an abstract role
+
     def __getattr__(self, name):
         return lambda *args: 0
 
@@ -65,10 +70,11 @@ def program(shared: list[str], own: list[list[str]]) -> str:
     return "\n".join(parts) + f"\ndeployment {{ {names} }}\n"
 
 
-def run_discovery(code: bytes, axis: int, connected: int) -> int:
+def run_discovery(codes: list[bytes], axis: int, connected: int) -> int:
     module = FakeModule(axis, connected)
-    result = run(Frame(code), module)
-    assert result.outcome is Outcome.MIGRATE, result
+    for code in codes:
+        result = run(Frame(code), module)
+        assert result.outcome is Outcome.MIGRATE, result
     return module.role
 
 
@@ -101,10 +107,47 @@ def test_discovery_matches_the_invariants(shared, own):
     for index in range(0, len(LOCAL_STATES), 5):
         axis, connected = LOCAL_STATES[index]
         winners = [f"R{i}" for i, inv in enumerate(own) if holds(shared + inv, axis, connected)]
-        if len(winners) > 1:
-            continue  # a role conflict: the outcome is undefined
-        role = 0
-        for fragment in compiled.fragments:
-            if fragment.kind == "discovery":
-                role = run_discovery(fragment.code, axis, connected) or role
+        codes = [fragment.code for fragment in compiled.fragments if fragment.kind == "discovery"]
+        role = run_discovery(codes, axis, connected)
         assert role == (ids[winners[0]] if winners else 0), (text, axis, bin(connected))
+
+
+def independent_program(roles: list[list[str]]) -> str:
+    """Roles with nothing in common: each is discovered by a fragment of its own."""
+    parts = []
+    for index, invariants in enumerate(roles):
+        parts += [f"role R{index} {{", *[f"  {inv};" for inv in invariants], "}"]
+    names = ", ".join(f"R{i}" for i in range(len(roles)))
+    return "\n".join(parts) + f"\ndeployment {{ {names} }}\n"
+
+
+@settings(max_examples=80)
+@given(st.lists(st.lists(invariant, max_size=2), min_size=2, max_size=4))
+def test_the_first_holding_role_wins_across_fragments(roles):
+    """Each role its own fragment (or a group): where several hold, the first deployed is taken,
+    and a fragment pays for its guard only when an earlier role can hold where its role holds."""
+    text = independent_program(roles)
+    result = check_text(text)
+    if any(d.severity == 1 for d in result.diagnostics):
+        return
+    compiled = compile_model(result.model)
+    ids = {r.name: r.id for r in compiled.roles}
+    codes = [fragment.code for fragment in compiled.fragments if fragment.kind == "discovery"]
+    for index in range(0, len(LOCAL_STATES), 3):
+        axis, connected = LOCAL_STATES[index]
+        winners = [f"R{i}" for i, inv in enumerate(roles) if holds(inv, axis, connected)]
+        assert run_discovery(codes, axis, connected) == (ids[winners[0]] if winners else 0), \
+            (text, axis, bin(connected))
+
+
+def test_wheel_before_other_takes_the_wheels():
+    """The issue's program: Other has no invariant, so it holds everywhere; Wheel comes first."""
+    text = ("role Wheel { self.center_position == EAST_WEST; sizeof(self.total_connected()) == 1; }\n"
+            "role Other { }\ndeployment { Wheel, Other }\n")
+    compiled = compile_model(check_text(text).model)
+    ids = {r.name: r.id for r in compiled.roles}
+    codes = [fragment.code for fragment in compiled.fragments if fragment.kind == "discovery"]
+    ew = PREDEFINED_VALUES["EAST_WEST"].code
+    assert run_discovery(codes, ew, 0b1) == ids["Wheel"]
+    assert run_discovery(codes, ew, 0b11) == ids["Other"]
+    assert len(codes[1]) == 7  # HAS_ROLE 0; IF_FALSE_GOTO; SET_ROLE_NOTIFY; MIGRATE_CONTINUE

@@ -43,6 +43,7 @@ def test_conflict_witness(check) -> None:
     assert "'A'" in warning.message and "'B'" in warning.message
     assert "axis EAST_WEST" in warning.message and "y = 1" in warning.message
     assert "connectors {" in warning.message
+    assert "such a module takes 'A', the first of the two in the deployment, never 'B'" in warning.message
 
 
 def test_disjoint_invariants_do_not_conflict(check) -> None:

@@ -133,7 +133,7 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
        "(nothing if the same code is stored already); it never migrates", ext=True),
     _i(67, "END_WAIT", (), 0, 0,
        "end the run; run this program again when a state or a neighbour's published value of this "
-       "module changes", ext=True, no_fallthrough=True),
+       "module changes, or its connections change", ext=True, no_fallthrough=True),
     _i(68, "SET_LED_STACK", (), 1, 0, "pop v; show v on the LEDs", ext=True),
     _i(69, "DATA", (_O.BYTE,), 0, 0,
        "the value the program carries (only as its last instruction, never run): it travels with the "
