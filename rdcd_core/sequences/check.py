@@ -57,7 +57,9 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
     seen: dict[str, ast.Sequence] = {}
     for sequence in model.program.sequences:
         name = sequence.name.text
-        if name in seen or name in model.states:
+        state = model.states.get(name)
+        generated = state is not None and state.decl.span == sequence.name.span  # lower.py's own
+        if name in seen or (state is not None and not generated):
             found.append(diag.make(codes.DUPLICATE_SEQUENCE, sequence.name.span,
                                    f"'{name}' is already the name of a "
                                    f"{'sequence' if name in seen else 'module state'}"))
