@@ -1,0 +1,66 @@
+"""Sequences run in the lattice world as rdcd simulate runs them: the final structure equals the
+shape the checker finds at the end (cells and connections), with and without lost packets; the
+sequence run backwards gives the start back; 100 % loss ends at the run's duration with the
+structure unchanged."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from rdcd_core.compiler import compile_model
+from rdcd_core.frontend import check_text
+from sim.config import load_config
+from sim.run import Options, simulate
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EIGHT = (EXAMPLES / "eight_to_snake.rdcd").read_text()
+
+
+def shape(report: dict) -> tuple[dict, set]:
+    cells = {m["id"]: tuple(m["final_lattice"]) for m in report["modules"]}
+    return cells, {tuple(c) for c in report["connections"]}
+
+
+def structure_shape(structure) -> tuple[dict, set]:  # noqa: ANN001
+    cells = {m: tuple(s.position) for m, s in structure.modules.items()}
+    return cells, {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()}
+
+
+def run(text: str, config: str, *, loss: float = 0.0, seed: int = 0, duration: float = 40.0,
+        reverse: str | None = None) -> tuple[dict, object]:
+    result = check_text(text)
+    assert not result.has_errors, result.diagnostics
+    start = load_config(config)
+    if reverse is not None:
+        start = result.traces[0].final
+    program = compile_model(result.model, text=text, reverse=reverse)
+    assert not program.has_errors, program.diagnostics
+    options = Options(world="lattice", config=config, obstacle="none", duration=duration, seed=seed,
+                      packet_loss=loss)
+    return simulate(program, start, options), result.traces[0]
+
+
+def test_eight_to_snake_ends_in_the_checked_shape() -> None:
+    report, trace = run(EIGHT, "eight7")
+    assert shape(report) == structure_shape(trace.final)
+    assert report["modules"][0]["final_state"]["eightToSnake"] == 2
+
+
+@pytest.mark.parametrize("loss, seed", [(0.1, 1), (0.2, 2), (0.3, 3), (0.3, 4)])
+def test_lost_packets_delay_but_never_break_it(loss: float, seed: int) -> None:
+    report, trace = run(EIGHT, "eight7", loss=loss, seed=seed, duration=60)
+    assert report["messages"]["dropped"] > 0
+    assert shape(report) == structure_shape(trace.final)
+
+
+def test_run_backwards_it_gives_the_eight_back() -> None:
+    report, _ = run(EIGHT, "eight7", reverse="eightToSnake", loss=0.2, seed=5, duration=60)
+    assert shape(report) == structure_shape(load_config("eight7"))
+
+
+def test_all_packets_lost_ends_at_the_duration_with_nothing_done() -> None:
+    report, _ = run(EIGHT, "eight7", loss=1.0, duration=5)
+    assert report["duration_s"] == 5
+    assert shape(report) == structure_shape(load_config("eight7"))
