@@ -29,8 +29,9 @@ def codes(text: str, config: str | None = None) -> list[str]:
 
 
 def test_a_sequence_parses_into_steps_and_parallel_blocks() -> None:
-    result = parse(ROLES + "sequence s(car7) { Front.turnQuarters(1); parallel { LeftFront.turnQuarters(-1); "
-                   "Rest(self.x() < 0 && self.y() > 0).waitUntil(1 == 1); } }\ndeployment { Front, LeftFront, Rest }")
+    result = parse(ROLES + "sequence s(car7) { Front.turnQuarters(1); parallel { "
+                   "LeftFront.turnQuarters(-1); Rest(self.x() < 0 && self.y() > 0).waitUntil(1 == 1); "
+                   "} }\ndeployment { Front, LeftFront, Rest }")
     assert result.ok, result.diagnostics
     (sequence,) = result.program.sequences
     assert sequence.name.text == "s" and sequence.config is not None and sequence.config.text == "car7"
@@ -41,7 +42,8 @@ def test_a_sequence_parses_into_steps_and_parallel_blocks() -> None:
 
 
 def test_formatting_keeps_the_tree_and_is_idempotent() -> None:
-    text = ROLES + "sequence s { Front.turnQuarters( 1 ) ; parallel{LeftFront.turnQuarters(-1);} }\ndeployment { Front, LeftFront, Rest }"
+    text = (ROLES + "sequence s { Front.turnQuarters( 1 ) ; parallel{LeftFront.turnQuarters(-1);} }\n"
+            "deployment { Front, LeftFront, Rest }")
     formatted = format_text(text)
     assert formatted is not None and format_text(formatted) == formatted
     assert strip_spans(parse(formatted).program) == strip_spans(parse(text).program)
@@ -96,7 +98,8 @@ def test_bad_steps(step: str, code: str) -> None:
 
 
 def test_a_split_is_refused_at_the_step() -> None:
-    text = EIGHT.replace("  LowerRight.disconnect(6);\n", "  LowerRight.disconnect(6);\n  Side(self.x() == 1).disconnect(6);\n")
+    text = EIGHT.replace("  LowerRight.disconnect(6);\n",
+                         "  LowerRight.disconnect(6);\n  Side(self.x() == 1).disconnect(6);\n")
     found = check_text(text).diagnostics
     assert [d.code for d in found] == ["E814"]
     assert text[found[0].span.start:found[0].span.end].startswith("Side(")
