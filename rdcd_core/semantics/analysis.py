@@ -13,10 +13,12 @@ from rdcd_core.semantics.inlining import check_inlined_scoping
 from rdcd_core.semantics.model import Model
 from rdcd_core.semantics.recursion import check_recursion
 from rdcd_core.sequences.check import check_names
+from rdcd_core.sequences.lower import with_progress_states
 from rdcd_core.syntax import ast
 
 
 def run(program: ast.Program) -> Model:
+    program = with_progress_states(program)  # a sequence's progress is a module state
     model = Model(program, {}, [], [])
     ctx = Context(model)
     build_roles(ctx, program)

@@ -94,10 +94,11 @@ def lower(program: ast.Program, reverse: str | None = None) -> ast.Program:
     seen: set[str] = set()
     for sequence in program.sequences:
         name = sequence.name.text
-        if name in seen or any(s.name.text == name for s in program.states):
+        if name in seen:
             continue
         seen.add(name)
-        states.append(_respan(_state(name), sequence.name.span))
+        if not any(s.name.text == name for s in program.states):
+            states.append(_respan(_state(name), sequence.name.span))
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
                                 reverse == name)
         for role, items in generated.items():
@@ -109,6 +110,20 @@ def lower(program: ast.Program, reverse: str | None = None) -> ast.Program:
     roles = tuple(replace(role, members=role.members + tuple(extra.get(role.name.text, ())))
                   for role in program.roles)
     return replace(program, roles=roles, states=tuple(states))
+
+
+def with_progress_states(program: ast.Program) -> ast.Program:
+    """``program`` with the progress state of each sequence declared (so that roles can read it,
+    e.g. ``S == 3;`` for a role of the shape after it), unless a state of that name exists (E801)."""
+    if not program.sequences:
+        return program
+    names = {s.name.text for s in program.states}
+    extra = []
+    for sequence in program.sequences:
+        if sequence.name.text not in names:
+            names.add(sequence.name.text)
+            extra.append(_respan(_state(sequence.name.text), sequence.name.span))
+    return replace(program, states=program.states + tuple(extra)) if extra else program
 
 
 def _state(name: str) -> ast.StateDecl:

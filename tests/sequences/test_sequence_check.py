@@ -135,3 +135,16 @@ def test_roles_that_read_published_values_make_the_rest_unchecked() -> None:
 def test_many_steps_are_refused() -> None:
     body = "UpperLeft.waitUntil(1 == 1);\n" * 61
     assert "E803" in codes(EIGHT.replace("  UpperLeft.disconnect(0);\n", body))
+
+
+def test_hovering_a_step_shows_the_module_and_the_structure_after_it() -> None:
+    from rdcd_core.ide.analysis import analyze
+    from rdcd_core.ide.hover import hover
+
+    analysis = analyze(EIGHT)
+    found = hover(analysis, EIGHT.index("LowerRight.disconnect") + 3)
+    assert found is not None and "module 4 acts" in found.markdown
+    assert "links: 0.3-2.4 0.7-1.6 1.2-3.5 3.3-5.4 4.2-6.5 5.0-6.1" in found.markdown
+    unchecked = EIGHT.replace("(eight7)", "")
+    found = hover(analyze(unchecked), unchecked.index("LowerRight.disconnect") + 3)
+    assert found is not None and "no starting configuration" in found.markdown

@@ -64,3 +64,29 @@ def test_all_packets_lost_ends_at_the_duration_with_nothing_done() -> None:
     report, _ = run(EIGHT, "eight7", loss=1.0, duration=5)
     assert report["duration_s"] == 5
     assert shape(report) == structure_shape(load_config("eight7"))
+
+
+def test_the_new_shape_s_work_waits_for_the_end_of_the_sequence() -> None:
+    # a role of the snake (an NS module inside the chain) whose behaviour is gated by the progress
+    text = "state working := 0;\n" + EIGHT.replace("role Hub {", """role Spine {
+  self.center_position == NORTH_SOUTH;
+  sizeof(self.total_connected()) == 2;
+  behavior work() {
+    if (eightToSnake == 2) {
+      working := 1;
+    }
+  }
+}
+
+role Hub {""").replace("deployment { UpperLeft, LowerRight, Hub, Side }",
+                       "deployment { UpperLeft, LowerRight, Spine, Hub, Side }")
+    report, trace = run(text, "eight7")
+    assert shape(report) == structure_shape(trace.final)
+    modules = {m["id"]: m for m in report["modules"]}
+    assert [modules[m]["final_role"] for m in (0, 3, 6)] == ["Spine"] * 3
+    assert [modules[m]["final_state"]["working"] for m in (0, 3, 6)] == [1, 1, 1]
+    done = max(e["t"] for e in report["events"] if e["kind"] == "disconnect")
+    for m in (0, 3, 6):  # no work before the last step
+        changes = [entry for entry in modules[m]["state_history"] if "working" in str(entry)]
+        assert changes, modules[m]["state_history"]
+        assert all(entry[0] >= done for entry in changes), changes
