@@ -240,6 +240,8 @@ class _Printer:
         header = "sequence " + sequence.name.text
         if sequence.config is not None:
             header += f"({sequence.config.text})"
+        if sequence.modifier is not None:
+            header += " " + sequence.modifier.text
         if not sequence.items and not self._comments_in(sequence.span):
             self.line(header + " { }", sequence.span.end, 0)
             return

@@ -64,6 +64,10 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
                                    f"'{name}' is already the name of a "
                                    f"{'sequence' if name in seen else 'module state'}"))
         seen.setdefault(name, sequence)
+        if sequence.modifier is not None and sequence.modifier.text != "rollback":
+            found.append(diag.make(codes.BAD_STEP, sequence.modifier.span,
+                                   f"'{sequence.modifier.text}': after a sequence's name and "
+                                   "configuration only 'rollback' may stand"))
         count = sum(1 for _ in steps_of(sequence))
         if count > MAX_STEPS:
             found.append(diag.make(codes.BAD_STEP, sequence.name.span,

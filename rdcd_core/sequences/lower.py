@@ -32,22 +32,28 @@ from rdcd_core.syntax import ast
 STEPS_PER_BEHAVIOUR = 2  # two steps' code fits a 43-byte fragment with room for a condition
 
 
-def step_code(sequence: str, k: int, step: ast.SeqStep, reverse: bool = False) -> str | None:
-    """The statement of step number ``k`` (0-based); None for a step the checker rejects."""
+def step_code(sequence: str, k: int, step: ast.SeqStep, reverse: bool = False, *,
+              at: int | None = None, then: int | None = None, failed: int | None = None) -> str | None:
+    """The statement of step number ``k`` (0-based): it acts when the progress is ``at`` (default
+    k), then sets it to ``then`` (default k + 1), or to ``failed`` when the action fails (default:
+    unchanged, tried again). None for a step the checker rejects."""
     action = step.action.text
     if action not in STEP_ACTIONS or len(step.args) != 1 or isinstance(step.args[0], ast.Block):
         return None
     if reverse:
         action = INVERSE[action]
-    guard = f"{sequence} == {k}"
+    at = k if at is None else at
+    then = k + 1 if then is None else then
+    guard = f"{sequence} == {at}"
     if step.condition is not None:
         guard += f" && ({expr(step.condition)})"
     arg = expr(step.args[0])
     if action == "waitUntil":
-        return f"if ({guard} && ({arg})) {{ {sequence} := {k + 1}; }}"
+        return f"if ({guard} && ({arg})) {{ {sequence} := {then}; }}"
     if action == "turnQuarters" and reverse:
         arg = f"0 - ({arg})"
-    return f"if ({guard}) {{ if (self.{action}({arg})) {{ {sequence} := {k + 1}; }} }}"
+    otherwise = f" else {{ {sequence} := {failed}; }}" if failed is not None else ""
+    return f"if ({guard}) {{ if (self.{action}({arg})) {{ {sequence} := {then}; }}{otherwise} }}"
 
 
 def ordered_steps(sequence: ast.Sequence, reverse: bool = False) -> list[ast.SeqStep]:
@@ -63,14 +69,24 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); }}",
                 sequence.header_span)] for role in deployed}
     by_role: dict[str, list[tuple[str, Span]]] = {}
-    for k, step in enumerate(ordered_steps(sequence, reverse)):
-        code = step_code(name, k, step, reverse)
+    steps = ordered_steps(sequence, reverse)
+    n = len(steps)
+    rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
+    for k, step in enumerate(steps):
+        # rollback: progress 2n - j means "undo step j next"; a failure at step k undoes k - 1 first,
+        # and 2n + 1 is "rolled back" — the progress still only grows, so max() still spreads it
+        code = step_code(name, k, step, reverse, failed=2 * n - k + 1 if rollback else None)
         if code is not None and step.role.text in out:
             by_role.setdefault(step.role.text, []).append((code, step.span))
+        if rollback and step.action.text != "waitUntil":
+            undo = step_code(name, k, step, not reverse, at=2 * n - k, then=2 * n - k + 1)
+            if undo is not None and step.role.text in out:
+                by_role.setdefault(step.role.text, []).append((undo, step.span))
     for role, codes in by_role.items():
+        per = 1 if rollback else STEPS_PER_BEHAVIOUR  # a step with its failure branch fills one
         chunks: list[list[tuple[str, Span]]] = [[]]
         for code, span in codes:  # a step with a condition takes a behaviour alone
-            if len(chunks[-1]) == STEPS_PER_BEHAVIOUR or (chunks[-1] and "&& (" in code + chunks[-1][0][0]):
+            if len(chunks[-1]) == per or (chunks[-1] and "&& (" in code + chunks[-1][0][0]):
                 chunks.append([])
             chunks[-1].append((code, span))
         for i, chunk in enumerate(chunks):

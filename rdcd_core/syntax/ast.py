@@ -309,6 +309,7 @@ class Sequence:
     items: tuple[SeqItem, ...]
     span: Span
     header_span: Span  # from 'sequence' to the '{'
+    modifier: Name | None = None  # 'rollback': a failed step undoes the steps done, in reverse order
 
 
 @fast_init

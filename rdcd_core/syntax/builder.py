@@ -119,11 +119,12 @@ class AstBuilder:
     # ------------------------------------------------------------------ sequences
 
     def sequence(self, c: list) -> ast.Sequence:
-        # SEQUENCE NAME [LPAR NAME RPAR] LBRACE item* RBRACE; an absent [...] gives three Nones
+        # SEQUENCE NAME [LPAR NAME RPAR] [NAME] LBRACE item* RBRACE; an absent [...] gives Nones
         config = _name(c[3]) if c[3] is not None else None
-        lbrace = c[5]
-        items = tuple(x for x in c[6:-1] if isinstance(x, (ast.SeqStep, ast.SeqParallel)))
-        return ast.Sequence(_name(c[1]), config, items, _span(c[0], c[-1]), _span(c[0], lbrace))
+        modifier = _name(c[5]) if c[5] is not None else None
+        lbrace = c[6]
+        items = tuple(x for x in c[7:-1] if isinstance(x, (ast.SeqStep, ast.SeqParallel)))
+        return ast.Sequence(_name(c[1]), config, items, _span(c[0], c[-1]), _span(c[0], lbrace), modifier)
 
     def seq_parallel(self, c: list) -> ast.SeqParallel:
         steps = tuple(x for x in c[2:-1] if isinstance(x, ast.SeqStep))

@@ -148,3 +148,10 @@ def test_hovering_a_step_shows_the_module_and_the_structure_after_it() -> None:
     unchecked = EIGHT.replace("(eight7)", "")
     found = hover(analyze(unchecked), unchecked.index("LowerRight.disconnect") + 3)
     assert found is not None and "no starting configuration" in found.markdown
+
+
+def test_only_rollback_may_follow_the_configuration() -> None:
+    assert codes(EIGHT.replace("(eight7) {", "(eight7) rollback {")) == []
+    assert "E803" in codes(EIGHT.replace("(eight7) {", "(eight7) undo {"))
+    formatted = format_text(EIGHT.replace("(eight7) {", "(eight7)   rollback{"))
+    assert formatted is not None and "sequence eightToSnake(eight7) rollback {" in formatted

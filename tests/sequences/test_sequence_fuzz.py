@@ -21,8 +21,8 @@ ROLES = st.sampled_from(["UpperLeft", "LowerRight", "Hub", "Side", "Nobody", "Mo
 ACTIONS = st.sampled_from(["connect", "disconnect", "turnQuarters", "waitUntil", "rotate"])
 ARGS = st.one_of(st.integers(-9, 130).map(str), st.sampled_from(["self.x() > 0", "", "1, 2", "{ }",
                                                                   "self.connect(0)", "EAST"]))
-CONDITIONS = st.one_of(st.none(), st.sampled_from(["self.x() == 1", "self.y() < 0", "1",
-                                                   "max(neighbours.eightToSnake) > 0", "self.turnQuarters(1)"]))
+CONDITIONS = st.one_of(st.none(), st.sampled_from([
+    "self.x() == 1", "self.y() < 0", "1", "max(neighbours.eightToSnake) > 0", "self.turnQuarters(1)"]))
 STEP = st.builds(lambda r, c, a, x: f"{r}{'(' + c + ')' if c else ''}.{a}({x});",
                  ROLES, CONDITIONS, ACTIONS, ARGS)
 ITEM = st.one_of(STEP, st.lists(STEP, max_size=3).map(lambda s: "parallel { " + " ".join(s) + " }"))

@@ -90,3 +90,19 @@ role Hub {""").replace("deployment { UpperLeft, LowerRight, Hub, Side }",
         changes = [entry for entry in modules[m]["state_history"] if "working" in str(entry)]
         assert changes, modules[m]["state_history"]
         assert all(entry[0] >= done for entry in changes), changes
+
+
+@pytest.mark.parametrize("loss, seed", [(0.0, 0), (0.2, 7)])
+def test_a_failed_step_rolls_back_to_the_start(loss: float, seed: int) -> None:
+    text = (Path(__file__).parent / "rollback.rdcd").read_text()
+    result = check_text(text)
+    assert [d.code for d in result.diagnostics] == ["W810"]
+    program = compile_model(result.model, text=text)
+    assert not program.has_errors and max(f.size for f in program.fragments) <= 43
+    options = Options(world="lattice", config="eight7", obstacle="none", duration=40, seed=seed,
+                      packet_loss=loss)
+    report = simulate(program, load_config("eight7"), options)
+    kinds = [e["kind"] for e in report["events"] if e["kind"] in ("connect", "disconnect", "connect_failed")]
+    assert kinds[0] == "disconnect" and "connect_failed" in kinds and kinds[-1] == "connect"
+    assert shape(report) == structure_shape(load_config("eight7"))
+    assert {m["final_state"]["s"] for m in report["modules"]} == {5}  # 2n + 1: rolled back
