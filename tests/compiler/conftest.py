@@ -13,7 +13,7 @@ from rdcd_core.frontend import CheckResult, check_text
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 # examples that use state: they need the default target's extension instructions (tests/state)
 STATE_EXAMPLES = frozenset({"gradient.rdcd", "count.rdcd", "lowest.rdcd", "hops.rdcd", "obstacle_memory.rdcd",
-                            "snake_gait.rdcd"})
+                            "snake_gait.rdcd", "eight_to_snake.rdcd"})
 
 
 def firmware_examples() -> list[Path]:
