@@ -210,6 +210,38 @@ def _sequence_end(path: str, name: str, config: str):  # noqa: ANN202 - Structur
     return trace.final
 
 
+def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
+    """How far each sequence of the program got: the progress every module ended with
+    (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
+    from rdcd_core.inputs import InputError, read_source
+    from rdcd_core.sequences.check import steps_of
+    from rdcd_core.syntax import parse
+
+    try:
+        program = parse(read_source(path)).program
+    except InputError:
+        return []
+    lines = []
+    for sequence in program.sequences:
+        name, steps = sequence.name.text, sum(1 for _ in steps_of(sequence))
+        values = [m.get("final_state", {}).get(name) for m in report.get("modules", [])]
+        values = [v for v in values if isinstance(v, int)]
+        if not values:
+            continue
+        rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
+        low, high = min(values), max(values)
+        way = " backwards" if reverse == name else ""
+        if rollback and high > steps:
+            left = 2 * steps + 1 - high
+            state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
+        elif low == steps:
+            state = "done"
+        else:
+            state = f"not done: {high} of {steps} steps when the run ended"
+        lines.append(f"sequence {name}{way}: {state}")
+    return lines
+
+
 def _compile(path: str, target: str, reverse: str | None = None):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
     from rdcd_core.cli_compile import compile_text
@@ -305,6 +337,8 @@ def run(args: argparse.Namespace) -> int:
         except OSError as e:
             problem = f"--replay {args.replay}: cannot write: {_why(e)}"
     print(summary(report))
+    for line in _sequence_lines(args.file, report, reverse):
+        print(line)
     for line in written:
         print(line)
     return _fail(problem) if problem else 0

@@ -106,3 +106,21 @@ def test_a_failed_step_rolls_back_to_the_start(loss: float, seed: int) -> None:
     assert kinds[0] == "disconnect" and "connect_failed" in kinds and kinds[-1] == "connect"
     assert shape(report) == structure_shape(load_config("eight7"))
     assert {m["final_state"]["s"] for m in report["modules"]} == {5}  # 2n + 1: rolled back
+
+
+def test_the_command_line_says_how_far_the_sequence_got(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    program = EXAMPLES / "eight_to_snake.rdcd"
+    common = [sys.executable, "-m", "rdcd_core", "simulate", str(program), "--config", "eight7",
+              "--world", "lattice", "--obstacle", "none", "--duration", "8"]
+    lost = subprocess.run([*common, "--packet-loss", "1"], capture_output=True, text=True, timeout=300)
+    assert lost.returncode == 0 and "sequence eightToSnake: not done: 0 of 2 steps" in lost.stdout
+    done = subprocess.run(common, capture_output=True, text=True, timeout=300)
+    assert "sequence eightToSnake: done" in done.stdout
+    back = subprocess.run([*common, "--reverse-sequence", "eightToSnake"], capture_output=True, text=True,
+                          timeout=300)
+    assert "sequence eightToSnake backwards: done" in back.stdout
+    bad = subprocess.run([*common, "--reverse-sequence", "nope"], capture_output=True, text=True, timeout=300)
+    assert bad.returncode != 0 and "no sequence of that name" in bad.stderr and "Traceback" not in bad.stderr
