@@ -137,8 +137,10 @@ class Session(Sink):
         from sim.report import build_report, summary
 
         try:
-            report = build_report(self.launch.program, self.launch.structure, run.roles,  # type: ignore[union-attr]
-                                  self.launch.options, run.finish(), 0.0)  # type: ignore[union-attr]
+            launch = self.launch
+            report = build_report(launch.program, run.structure, run.roles,  # type: ignore[union-attr]
+                                  launch.options, run.finish(), 0.0,  # type: ignore[union-attr]
+                                  start=launch.structure)  # type: ignore[union-attr]
             self._console(summary(report) + "\n", "console")
         except Exception as e:  # the summary is a courtesy: the end is still said
             self._console(f"the run ended (no summary: {type(e).__name__}: {e})\n", "stderr")

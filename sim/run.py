@@ -144,6 +144,7 @@ class Run:
         self.boxes = parse_obstacle(options.obstacle)
         self.roles = role_table(program)
         self.events: list[dict[str, Any]] = []
+        self._sources: dict[int, dict] = {}  # per module, where its last action is in the program
         self.done = 0.0  # simulated seconds advanced
         self.world: Any = None
         self.starts: dict[int, tuple[float, float]] = {}
@@ -207,7 +208,7 @@ class Run:
         again after a copy of the run (``copy.deepcopy`` keeps the hooks of the original)."""
         world, events = self.world, self.events
         if self.options.world == "lattice":
-            sources: dict[int, dict] = {}
+            sources = self._sources  # the run's: a copy of the run keeps what its modules asked
 
             def recorder(mid: int) -> Callable:
                 return _recorder(events, world.now, mid, self.program, sources)

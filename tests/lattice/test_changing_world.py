@@ -144,3 +144,25 @@ def test_same_seed_same_story() -> None:
     a = run((EXAMPLES / "move_one.rdcd").read_text(), "random4-seed109", 6, seed=3)
     b = run((EXAMPLES / "move_one.rdcd").read_text(), "random4-seed109", 6, seed=3)
     assert a["events"] == b["events"] and a["connections"] == b["connections"]
+
+
+def test_a_copied_run_keeps_its_own_structure() -> None:
+    """The debugger steps back by copying the run (copy.deepcopy, hooks set again): the copy's
+    structure is the one at the copy, and it changes as the original did."""
+    import copy
+
+    from sim.run import Run
+
+    program = program_of((EXAMPLES / "move_one.rdcd").read_text())
+    original = Run(program, load_config("random4-seed109"),
+                   Options(world="lattice", obstacle="none", duration=6))
+    original.advance_chunk()
+    saved = copy.deepcopy(original)
+    saved.hook_events()
+    original.run_to_end()
+    assert saved.structure.modules[2].position == (2, 1, 1)
+    assert original.structure.modules[2].position == (2, 0, 0)
+    saved.run_to_end()
+    assert saved.structure.modules == original.structure.modules
+    assert saved.structure.links() == original.structure.links()
+    assert [e for e in saved.events if e["t"] > 0.5] == [e for e in original.events if e["t"] > 0.5]

@@ -116,7 +116,7 @@ def test_listeners_hear_changes_and_snapshots_restore() -> None:
     s.check_invariants()
 
 
-OPS = st.lists(st.tuples(st.sampled_from(["latch", "unlatch", "rotate", "remove"]),
+OPS = st.lists(st.tuples(st.sampled_from(["latch", "unlatch", "rotate", "remove", "add"]),
                          st.integers(0, 11), st.integers(-3, 8)), max_size=25)
 
 
@@ -135,6 +135,17 @@ def test_random_operations_keep_the_invariants(n: int, seed: int, ops: list[tupl
                 assert s.modules == before
         elif op == "remove":
             change = s.remove(module)
+        elif op == "add":  # next to a module, on one of its connectors' cells (free or not)
+            near = s.modules.get(module) or s.modules[s.entry]
+            d = s.physical_direction(near.id, arg % 8)
+            cell = tuple(a + b for a, b in zip(near.position, d, strict=True))
+            axis = navigation.axis_for_position(*cell)
+            new = 100 + len(s.modules)
+            taken = s.module_at(cell) is not None
+            change = s.add(ModuleSpec(new, cell, axis or 0, Mount(arg % 4, arg % 2 == 0)))
+            assert not (taken and change.ok)
+            if change.ok:
+                assert s.module_at(cell) == new and s.connected_channels(new)
         else:
             change = getattr(s, op)(module, arg)
         if change.ok and change.parts:

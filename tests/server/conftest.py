@@ -78,7 +78,7 @@ class Session:
         version = self.versions[uri]
         self.client.text_document_did_change(types.DidChangeTextDocumentParams(
             text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
-            content_outside_changes=changes))
+            content_changes=changes))
         return self.diagnostics(uri, version) if wait else None
 
     def replace_all(self, uri: str, text: str) -> list[types.Diagnostic] | None:
