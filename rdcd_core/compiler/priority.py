@@ -24,7 +24,8 @@ from rdcd_core.compiler.geometry import ALL_STATES, LOCAL_STATES, facing
 from rdcd_core.operators import BINARY, UNARY
 from rdcd_core.syntax import ast
 
-_MAX_TERMS = 2  # connected_role terms in one invariant tried exhaustively (at most 16 x 16 values)
+_MAX_TERMS = 2  # connected_role terms in one invariant tried exhaustively
+_MAX_TRIALS = 20_000  # evaluations for one invariant; beyond that it "may hold anywhere" (a guard)
 
 
 class _Unknown(Exception):
@@ -35,6 +36,16 @@ class _Unknown(Exception):
 class Guard:
     guarded: bool  # an earlier deployed role can hold where a role of the fragment holds
     waits: bool  # the fragment of such a role waits (SLEEP): this one must wait too
+
+
+def local_part(ctx: Context) -> int:
+    """Local states in which the role's local invariants hold (the others ignored): a superset."""
+    from rdcd_core.compiler.discovery import invariants, role_mask
+
+    key = ("local_part", ctx.role)
+    if key not in ctx.cache:
+        ctx.cache[key] = role_mask(invariants(ctx), ctx, local_only=True)
+    return ctx.cache[key]  # type: ignore[return-value]
 
 
 def may_hold(ctx: Context) -> int:
@@ -56,8 +67,8 @@ def may_hold(ctx: Context) -> int:
 
 def earlier_overlapping(ctx: Context, earlier: list[Context]) -> list[Context]:
     """The roles of ``earlier`` (deployed before ``ctx.role``) that can hold where it holds."""
-    mine = may_hold(ctx)
-    return [other for other in earlier if may_hold(other) & mine]
+    local = local_part(ctx)  # cheap first: most pairs are told apart by their local invariants
+    return [other for other in earlier if local_part(other) & local and may_hold(other) & may_hold(ctx)]
 
 
 def _with_neighbour_roles(expr: ast.Node, ctx: Context) -> int:
@@ -71,12 +82,15 @@ def _with_neighbour_roles(expr: ast.Node, ctx: Context) -> int:
         if direction is None:
             return ALL_STATES
         directions.append(direction.value)
-    mask = 0
+    mask, trials = 0, 0
     try:
         for index, state in enumerate(LOCAL_STATES):
             axis, connected = state
             choices = [_subsets(connected & facing(axis, d)) for d in directions]
             for values in product(*choices):
+                trials += 1
+                if trials > _MAX_TRIALS:
+                    return ALL_STATES
                 assigned = {id(term): value for term, value in zip(terms, values, strict=True)}
                 if _value(expr, ctx, state, assigned):
                     mask |= 1 << index
