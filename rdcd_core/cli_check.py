@@ -1,5 +1,5 @@
 """``rdcd check [--format text|json|github] [--warnings-as-errors] [--packet-budget N]
-[--target default|original] PATH...``
+[--target default|original] [--config NAME|FILE] PATH...``
 
 Exit status: 0 no errors, 1 errors (or warnings with --warnings-as-errors), 2 usage or I/O error.
 """
@@ -28,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--packet-budget", type=int, default=DEFAULT_PACKET_BUDGET, metavar="N",
                         help="packet size budget in bytes for the target checks "
                              f"(default: {DEFAULT_PACKET_BUDGET})")
+    parser.add_argument("--config", default=None, metavar="NAME|FILE",
+                        help="the starting configuration of the programs' sequences (shipped name, "
+                             "snakeN, randomN-seedS or a file; default: the one each sequence names)")
     add_target_argument(parser)
 
 
@@ -60,7 +63,16 @@ def run(args: argparse.Namespace) -> int:
         print(f"rdcd check: {error}", file=sys.stderr)
         return 2
     target = chosen_target(args)
-    results = [(path, check_text(text, packet_budget=args.packet_budget, target=target))
+    config = getattr(args, "config", None)
+    if config is not None:
+        from rdcd_core.sequences.check import load_structure
+
+        try:
+            load_structure(config)  # a bad --config is a usage error, not a diagnostic of each file
+        except (ValueError, OSError) as error:
+            print(f"rdcd check: --config: {error}", file=sys.stderr)
+            return 2
+    results = [(path, check_text(text, packet_budget=args.packet_budget, target=target, config=config))
                for path, text in sources]
     out = sys.stdout
     if args.format == "json":

@@ -37,20 +37,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def compile_text(text: str, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
-                 target: str | None = None) -> tuple[CheckResult, CompiledProgram | None, list[Diagnostic]]:
+                 target: str | None = None, reverse: str | None = None
+                 ) -> tuple[CheckResult, CompiledProgram | None, list[Diagnostic]]:
     """Checks ``text`` and, if it has no errors, compiles it for ``target`` (``strict_isa``: the
     original target): the check result, the program (None after errors) and every diagnostic, the
-    compiler's own ones that the check had not found added."""
+    compiler's own ones that the check had not found added. ``reverse``: a sequence compiled to
+    run backwards."""
     name = target or ("original" if strict_isa else "default")
     result = check_text(text, packet_budget=packet_budget, target=name)
     diagnostics = list(result.diagnostics)
     if result.has_errors:
         return result, None, diagnostics
-    if result.compiled is not None:  # the check compiled it: add the source lines
+    if result.compiled is not None and reverse is None:  # the check compiled it: add the lines
         program = result.compiled
         add_source_lines(program.fragments, result.line_index)
         return result, program, diagnostics
-    program = compile_model(result.model, packet_budget=packet_budget, target=name, text=text)
+    program = compile_model(result.model, packet_budget=packet_budget, target=name, text=text,
+                            reverse=reverse)
     known = {(d.code, d.span) for d in diagnostics}
     diagnostics += [d for d in program.diagnostics if (d.code, d.span) not in known]
     return result, program, diagnostics

@@ -80,7 +80,8 @@ def all_codes() -> list[CodeInfo]:
     """Every registered code, sorted; imports the layers so that all are registered."""
     import importlib
 
-    for module in ("rdcd_core.syntax.codes", "rdcd_core.semantics.codes", "rdcd_core.compiler.codes"):
+    for module in ("rdcd_core.syntax.codes", "rdcd_core.semantics.codes", "rdcd_core.compiler.codes",
+                   "rdcd_core.sequences.codes"):
         try:
             importlib.import_module(module)
         except ModuleNotFoundError:

@@ -9,7 +9,7 @@ from rdcd_core.diagnostics import CodeInfo, all_codes
 _GROUPS = {
     "0": "Syntax", "1": "Roles and hierarchy", "2": "Names and types",
     "3": "Methods, calls and blocks", "4": "assumeRole", "5": "Deployment and discovery",
-    "6": "Target limits (compiler)",
+    "6": "Target limits (compiler)", "8": "Reconfiguration sequences",
 }
 
 
@@ -35,7 +35,8 @@ def render() -> str:
         "",
         "Every diagnostic has a stable code: `E` errors, `W` warnings. The second character is "
         "the group: 0 syntax, 1 roles and hierarchy, 2 names and types, 3 methods, calls and "
-        "blocks, 4 assumeRole, 5 deployment and discovery, 6 target limits. `rdcd check` exits "
+        "blocks, 4 assumeRole, 5 deployment and discovery, 6 target limits, 8 reconfiguration "
+        "sequences. `rdcd check` exits "
         "with status 1 when a file has errors (or warnings, with `--warnings-as-errors`).",
         "",
         "| code | severity | title |",

@@ -193,7 +193,8 @@ class _Printer:
     # -- program ----------------------------------------------------------------------------
     def run(self) -> str:
         items: list[ast.RoleDecl | ast.StateDecl | ast.Deployment] = sorted(
-            [*self.program.roles, *self.program.states], key=lambda item: item.span.start)
+            [*self.program.roles, *self.program.states, *self.program.sequences],
+            key=lambda item: item.span.start)
         if self.program.deployment is not None:
             items.append(self.program.deployment)
         for position, item in enumerate(items):
@@ -204,6 +205,8 @@ class _Printer:
             self.separate(item.span.start)
             if isinstance(item, ast.RoleDecl):
                 self.role(item)
+            elif isinstance(item, ast.Sequence):
+                self.sequence(item)
             elif isinstance(item, ast.StateDecl):
                 travelling = "travelling " if item.travelling else ""
                 self.line(f"{travelling}state {item.name.text} := {expr(item.value)};", item.span.end, 0)
@@ -232,6 +235,35 @@ class _Printer:
             self.member(member)
         self.leading(role.span.end - 1, 1)
         self.line("}", role.span.end, 0)
+
+    def sequence(self, sequence: ast.Sequence) -> None:
+        header = "sequence " + sequence.name.text
+        if sequence.config is not None:
+            header += f"({sequence.config.text})"
+        if sequence.modifier is not None:
+            header += " " + sequence.modifier.text
+        if not sequence.items and not self._comments_in(sequence.span):
+            self.line(header + " { }", sequence.span.end, 0)
+            return
+        self.line(header + " {", sequence.header_span.end, 0)
+        for item in sequence.items:
+            self.leading(item.span.start, 1)
+            self.separate(item.span.start)
+            if isinstance(item, ast.SeqStep):
+                self.line(seq_step(item), item.span.end, 1)
+                continue
+            if not item.steps and not self._comments_in(item.span):
+                self.line("parallel { }", item.span.end, 1)
+                continue
+            self.line("parallel {", self.text.index("{", item.span.start) + 1, 1)
+            for step in item.steps:
+                self.leading(step.span.start, 2)
+                self.separate(step.span.start)
+                self.line(seq_step(step), step.span.end, 2)
+            self.leading(item.span.end - 1, 2)
+            self.line("}", item.span.end, 1)
+        self.leading(sequence.span.end - 1, 1)
+        self.line("}", sequence.span.end, 0)
 
     def _comments_in(self, span: Span) -> bool:
         comment = self._pending()
@@ -362,6 +394,12 @@ def expr(node: ast.Arg) -> str:
         if not node.has_parens:
             return "self." + node.name.text
     return call_head(node) + "(" + ", ".join(expr(a) for a in node.args) + ")"
+
+
+def seq_step(step: ast.SeqStep) -> str:
+    condition = f"({expr(step.condition)})" if step.condition is not None else ""
+    args = ", ".join(expr(a) for a in step.args)
+    return f"{step.role.text}{condition}.{step.action.text}({args});"
 
 
 def call_head(call: ast.Call) -> str:

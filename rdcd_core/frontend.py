@@ -30,6 +30,8 @@ class CheckResult:
     # the editor's fragment sizes do not compile the same text a second time.
     compiled: Any = None
     parsed: ParseResult | None = None  # the parse of ``text``, for reuse by the check of an edit
+    # the run of each sequence through the lattice model, by its index (docs/reconfiguration.md)
+    traces: dict[int, Any] = field(default_factory=dict)
 
     @property
     def has_errors(self) -> bool:
@@ -42,18 +44,19 @@ class CheckResult:
 
 
 def check_text(text: str, *, packet_budget: int = 50, previous: ParseResult | None = None,
-               target: str = "default") -> CheckResult:
+               target: str = "default", config: str | None = None) -> CheckResult:
     """Syntax and semantic diagnostics of ``text`` (plus the compiler's for ``target``, a name of
     ``vm.isa.targets.TARGETS``, when error-free).
 
     ``previous``, the parse of an earlier version of the text (an editor's), only makes it faster.
+    ``config``: the starting configuration of the program's sequences (else the one each names).
     """
     with gc_paused():
-        return _check(text, packet_budget, previous, target)
+        return _check(text, packet_budget, previous, target, config)
 
 
 def _check(text: str, packet_budget: int, previous: ParseResult | None,
-           target: str = "default") -> CheckResult:
+           target: str = "default", config: str | None = None) -> CheckResult:
     try:
         parsed = parse(text, previous)
     except Exception as error:  # a parser bug: report it, keep the editor and the CLI alive
@@ -70,6 +73,8 @@ def _check(text: str, packet_budget: int, previous: ParseResult | None,
     # one error per mistake: what the checker finds in a statement recovery repaired is a
     # consequence of the syntax error (rdcd_core.syntax.consequences)
     result.diagnostics = one_error_per_mistake(parsed.program, syntax, result.model.diagnostics)
+    if not result.has_errors and parsed.program.sequences:
+        result.diagnostics.extend(_sequence_diagnostics(result, config))
     if not result.has_errors:
         result.diagnostics.extend(_target_diagnostics(result, packet_budget, target))
     return _sorted(result)
@@ -84,6 +89,17 @@ def _target_diagnostics(result: CheckResult, packet_budget: int, target: str) ->
     except Exception as error:  # the compiler is another layer: report, do not crash
         return [_internal(error, "compilation")]
     return list(result.compiled.diagnostics)
+
+
+def _sequence_diagnostics(result: CheckResult, config: str | None) -> list[diag.Diagnostic]:
+    """Each sequence run through the lattice model from its starting configuration."""
+    from rdcd_core.sequences.check import lattice_diagnostics
+
+    try:
+        found, result.traces = lattice_diagnostics(result.model, config)
+    except Exception as error:  # a bug of the sequence checker must not crash the CLI or editor
+        return [_internal(error, "the sequence check")]
+    return found
 
 
 def _internal(error: Exception, stage: str) -> diag.Diagnostic:

@@ -57,6 +57,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "[rot R] [mirrored]' or 'T:stop ID' (e.g. 20s:detach 3); repeatable")
     parser.add_argument("--changes", metavar="FILE",
                         help="outside changes from a file, one per line as for --change (# comments)")
+    parser.add_argument("--reverse-sequence", metavar="NAME", default=None,
+                        help="run the program's sequence NAME backwards (the undo of each step, in "
+                             "reverse order), from the shape it ends in when run forward from --config "
+                             "(docs/reconfiguration.md)")
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
                              "ATRON firmware with its limits and quirks (docs/vm.md)")
@@ -184,7 +188,61 @@ def _physics_problem(structure) -> str | None:  # noqa: ANN001
             "modules); use --world lattice")
 
 
-def _compile(path: str, target: str):  # noqa: ANN202 - CompiledProgram | int
+def _sequence_end(path: str, name: str, config: str):  # noqa: ANN202 - Structure | str
+    """The shape sequence ``name`` of the program ends in, run forward from ``config`` by the
+    checker; a one-line reason when it cannot be known."""
+    from rdcd_core.frontend import check_text
+    from rdcd_core.inputs import InputError, read_source
+
+    try:
+        text = read_source(path)
+    except InputError as e:
+        return str(e)
+    result = check_text(text, config=config)
+    names = [s.name.text for s in result.program.sequences]
+    if name not in names:
+        return (f"--reverse-sequence {name}: the program has no sequence of that name "
+                f"(its sequences: {', '.join(names) or 'none'})")
+    trace = result.traces.get(names.index(name))
+    if trace is None or trace.final is None:
+        return (f"--reverse-sequence {name}: the sequence cannot be run forward from {config}, so "
+                f"the shape it ends in is not known (see rdcd check --config {config} {path})")
+    return trace.final
+
+
+def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
+    """How far each sequence of the program got: the progress every module ended with
+    (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
+    from rdcd_core.inputs import InputError, read_source
+    from rdcd_core.sequences.check import steps_of
+    from rdcd_core.syntax import parse
+
+    try:
+        program = parse(read_source(path)).program
+    except InputError:
+        return []
+    lines = []
+    for sequence in program.sequences:
+        name, steps = sequence.name.text, sum(1 for _ in steps_of(sequence))
+        values = [m.get("final_state", {}).get(name) for m in report.get("modules", [])]
+        values = [v for v in values if isinstance(v, int)]
+        if not values:
+            continue
+        rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
+        low, high = min(values), max(values)
+        way = " backwards" if reverse == name else ""
+        if rollback and high > steps:
+            left = 2 * steps + 1 - high
+            state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
+        elif low == steps:
+            state = "done"
+        else:
+            state = f"not done: {high} of {steps} steps when the run ended"
+        lines.append(f"sequence {name}{way}: {state}")
+    return lines
+
+
+def _compile(path: str, target: str, reverse: str | None = None):  # noqa: ANN202 - CompiledProgram | int
     from rdcd_core.cli_check import render_text
     from rdcd_core.cli_compile import compile_text
     from rdcd_core.diagnostics import Severity
@@ -194,7 +252,7 @@ def _compile(path: str, target: str):  # noqa: ANN202 - CompiledProgram | int
         text = read_source(path)
     except InputError as e:
         return _fail(str(e))
-    result, program, diagnostics = compile_text(text, target=target)
+    result, program, diagnostics = compile_text(text, target=target, reverse=reverse)
     errors = [d for d in diagnostics if d.severity is Severity.ERROR]
     for diagnostic in errors:
         sys.stderr.write(render_text(path, result, diagnostic))
@@ -243,7 +301,13 @@ def run(args: argparse.Namespace) -> int:
         changes = outside_changes(args, structure)
     except (ConfigError, InputError, ChangeError) as e:
         return _fail(str(e))
-    program = _compile(args.file, args.target or args.vm)
+    reverse = getattr(args, "reverse_sequence", None)
+    if reverse is not None:
+        ended = _sequence_end(args.file, reverse, args.config)
+        if isinstance(ended, str):
+            return _fail(ended)
+        structure = ended
+    program = _compile(args.file, args.target or args.vm, reverse)
     if isinstance(program, int):
         return program
     from sim.replay.cli import new_recording
@@ -273,6 +337,8 @@ def run(args: argparse.Namespace) -> int:
         except OSError as e:
             problem = f"--replay {args.replay}: cannot write: {_why(e)}"
     print(summary(report))
+    for line in _sequence_lines(args.file, report, reverse):
+        print(line)
     for line in written:
         print(line)
     return _fail(problem) if problem else 0

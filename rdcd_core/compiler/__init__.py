@@ -40,17 +40,26 @@ __all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_li
 
 
 def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
-                  text: str | None = None, target: Target | str | None = None) -> CompiledProgram:
+                  text: str | None = None, target: Target | str | None = None,
+                  reverse: str | None = None) -> CompiledProgram:
     """Compiles a checked model for ``target`` (a ``vm.isa.targets`` description or its name;
     default: this project's VM; ``strict_isa`` is the old name of the original target). With
     errors in the model, returns an empty program.
 
     ``diagnostics`` holds the compiler's own (E6xx/W6xx), not the model's. Pass the source
-    ``text`` to get line numbers in the source maps.
+    ``text`` to get line numbers in the source maps. ``reverse``: the name of a sequence to
+    compile backwards (the undo of each step, in reverse order).
     """
     chosen = resolve_target(target, strict_isa)
     if model.has_errors:
         return CompiledProgram([], [], [], packet_budget, target=chosen.name)
+    if model.program.sequences:  # compiled as state and behaviours (rdcd_core/sequences/lower.py)
+        from rdcd_core.sequences.lower import lowered_model
+
+        model = lowered_model(model, reverse)
+        if model.has_errors:
+            errors = [d for d in model.diagnostics if d.severity is diag.Severity.ERROR]
+            return CompiledProgram([], [], [], packet_budget, errors, target=chosen.name)
     table = build_role_table(model)
     commands = assign_command_numbers(model)
     found = command_limit(model, commands)  # role ids: the checker's E120 counts the table's

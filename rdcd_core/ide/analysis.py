@@ -27,6 +27,7 @@ class Analysis:
     cache: dict[str, Any] = field(default_factory=dict)  # derived data of this text, per feature
     parsed: ParseResult | None = None  # for reuse by the analysis of the next edit
     target: str = "default"  # the vm.isa.targets name the program is checked and compiled for
+    traces: dict[int, Any] = field(default_factory=dict)  # each sequence's run (rdcd_core/sequences)
 
     @property
     def line_index(self) -> LineIndex:
@@ -82,7 +83,7 @@ def analyze(text: str, previous: Analysis | None = None, target: str = "default"
                             target=target)
         return Analysis(text, result.program, result.model, list(result.diagnostics),
                         _compiled=result.compiled, _compile_tried=result.compiled is not None,
-                        parsed=result.parsed, target=target)
+                        parsed=result.parsed, target=target, traces=result.traces)
     except Exception as error:  # DESIGN rule 2 says this cannot happen; the editor must survive it
         from rdcd_core.semantics.codes import INTERNAL_ERROR
         from rdcd_core.source import Span

@@ -32,6 +32,9 @@ def describe_value(model: Model | None, value: Value | None) -> str:
 
 
 def hover(analysis: Analysis, offset: int) -> HoverResult | None:
+    step = step_hover(analysis, offset)
+    if step is not None:
+        return step
     ref = analysis.reference_at(offset)
     model = analysis.model
     if ref is None:
@@ -55,6 +58,34 @@ def hover(analysis: Analysis, offset: int) -> HoverResult | None:
     elif ref.kind == "parameter":
         text = parameter_hover(analysis, ref.target)
     return HoverResult(text, ref.name.span) if text else None
+
+
+def step_hover(analysis: Analysis, offset: int) -> HoverResult | None:
+    """On a sequence's step: which module acts and the structure after it, as the checker's run
+    through the lattice model found them (docs/reconfiguration.md)."""
+    if analysis.program is None:
+        return None
+    for index, sequence in enumerate(analysis.program.sequences):
+        if not sequence.span.contains(offset):
+            continue
+        steps = [s for item in sequence.items
+                 for s in ((item,) if not hasattr(item, "steps") else item.steps)]
+        step = next((s for s in steps if s.span.contains(offset)), None)
+        if step is None:
+            return None
+        trace = analysis.traces.get(index)
+        if trace is None:
+            text = ("Step of sequence `" + sequence.name.text + "`: no starting configuration to run "
+                    "it on (name one: `sequence " + sequence.name.text + "(car7) { … }`).")
+            return HoverResult(text, step.span)
+        result = next((r for r in trace.results if r.step is step), None)
+        if result is None:
+            return HoverResult("Step of sequence `" + sequence.name.text + "`: not reached by the "
+                               "check (an earlier step cannot happen).", step.span)
+        text = (f"Step {steps.index(step) + 1} of `{sequence.name.text}`: module {result.module} "
+                f"acts. The structure after it:\n\n```text\n{result.after}\n```")
+        return HoverResult(text, step.span)
+    return None
 
 
 def role_hover(analysis: Analysis, name: str) -> str | None:

@@ -12,10 +12,13 @@ from rdcd_core.semantics.hierarchy import build_roles
 from rdcd_core.semantics.inlining import check_inlined_scoping
 from rdcd_core.semantics.model import Model
 from rdcd_core.semantics.recursion import check_recursion
+from rdcd_core.sequences.check import check_names
+from rdcd_core.sequences.lower import with_progress_states
 from rdcd_core.syntax import ast
 
 
 def run(program: ast.Program) -> Model:
+    program = with_progress_states(program)  # a sequence's progress is a module state
     model = Model(program, {}, [], [])
     ctx = Context(model)
     build_roles(ctx, program)
@@ -37,6 +40,7 @@ def run(program: ast.Program) -> Model:
     deployment.check_discovery_order(ctx, seen)
     conflicts.check_conflicts(ctx, seen)
     deployment.check_dead_roles(ctx)
+    model.diagnostics += check_names(model)
     model.diagnostics.sort(key=lambda d: (d.span.start, d.span.end, d.code))
     model.references.sort(key=attrgetter("name.span.start"))
     return model

@@ -323,8 +323,9 @@ def layout(ctx: Context) -> None:
                    f"{len(states)} states are declared, {len(rest)} of them not read by neighbours; a "
                    f"module holds {STATE_BYTES} bytes of state, {PUBLISHED_STATES} of them for states "
                    f"the neighbours read, so at most {STATE_BYTES - PUBLISHED_STATES} others")
+    progress = {seq.name.span for seq in ctx.model.program.sequences}  # read by the generated code
     for symbol in states:
-        if id(symbol) not in ctx.read_states and symbol.decl.name.text:
+        if id(symbol) not in ctx.read_states and symbol.decl.name.text and symbol.decl.span not in progress:
             ctx.report(codes.UNUSED_STATE, symbol.decl.name.span,
                        f"state '{symbol.name}' is never read; remove it or use it")
 

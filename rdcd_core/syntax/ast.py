@@ -272,6 +272,46 @@ class Deployment:
     span: Span
 
 
+# ----------------------------------------------------------------------------- sequences
+
+
+@fast_init
+@dataclass(frozen=True, slots=True)
+class SeqStep:
+    """``Role.action(args);`` or ``Role(condition).action(args);``: one step of a sequence."""
+
+    role: Name
+    condition: Expr | None  # which of the modules holding the role acts (None: the only one)
+    action: Name  # connect | disconnect | turnQuarters | waitUntil
+    args: tuple[Arg, ...]
+    span: Span  # includes the trailing ';'
+
+
+@fast_init
+@dataclass(frozen=True, slots=True)
+class SeqParallel:
+    """``parallel { steps }``: steps that run at once, one stage of the sequence."""
+
+    steps: tuple[SeqStep, ...]
+    span: Span
+
+
+SeqItem = Union[SeqStep, SeqParallel]
+
+
+@fast_init
+@dataclass(frozen=True, slots=True)
+class Sequence:
+    """``sequence name(config) { stages }``: a reconfiguration of the whole robot."""
+
+    name: Name
+    config: Name | None  # the configuration it starts from, for the checker
+    items: tuple[SeqItem, ...]
+    span: Span
+    header_span: Span  # from 'sequence' to the '{'
+    modifier: Name | None = None  # 'rollback': a failed step undoes the steps done, in reverse order
+
+
 @fast_init
 @dataclass(frozen=True, slots=True)
 class Program:
@@ -280,6 +320,7 @@ class Program:
     span: Span
     comments: tuple[Comment, ...] = field(default=())
     states: tuple[StateDecl, ...] = field(default=())  # module state (top level)
+    sequences: tuple[Sequence, ...] = field(default=())
 
 
 Node = Any  # any of the dataclasses above

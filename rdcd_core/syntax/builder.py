@@ -93,7 +93,8 @@ class AstBuilder:
         roles = tuple(x for x in c if isinstance(x, ast.RoleDecl))
         states = tuple(x for x in c if isinstance(x, ast.StateDecl))
         deployment = c[-1] if c and isinstance(c[-1], ast.Deployment) else None
-        return roles, deployment, states
+        sequences = tuple(x for x in c if isinstance(x, ast.Sequence))
+        return roles, deployment, states, sequences
 
     def role(self, c: list) -> ast.RoleDecl:
         abstract, role_kw, name, sup, lbrace = c[0], c[1], c[2], c[3], c[4]
@@ -114,6 +115,27 @@ class AstBuilder:
     def deployment(self, c: list) -> ast.Deployment:
         names = tuple(_name(x) for x in c if isinstance(x, Tok) and x.type == "NAME")
         return ast.Deployment(names, _span(c[0], c[-1]))
+
+    # ------------------------------------------------------------------ sequences
+
+    def sequence(self, c: list) -> ast.Sequence:
+        # SEQUENCE NAME [LPAR NAME RPAR] [NAME] LBRACE item* RBRACE; an absent [...] gives Nones
+        config = _name(c[3]) if c[3] is not None else None
+        modifier = _name(c[5]) if c[5] is not None else None
+        lbrace = c[6]
+        items = tuple(x for x in c[7:-1] if isinstance(x, (ast.SeqStep, ast.SeqParallel)))
+        return ast.Sequence(_name(c[1]), config, items, _span(c[0], c[-1]), _span(c[0], lbrace), modifier)
+
+    def seq_parallel(self, c: list) -> ast.SeqParallel:
+        steps = tuple(x for x in c[2:-1] if isinstance(x, ast.SeqStep))
+        return ast.SeqParallel(steps, _span(c[0], c[-1]))
+
+    def seq_step(self, c: list) -> ast.SeqStep:
+        # NAME [LPAR expr RPAR] DOT NAME LPAR [args] RPAR SEMI
+        condition = c[2]
+        args = c[-3] if isinstance(c[-3], list) else []
+        node = ast.SeqStep(_name(c[0]), condition, _name(c[5]), tuple(args), _span(c[0], c[-1]))
+        return _nested(node, (condition, *args))
 
     # ------------------------------------------------------------------ members
 

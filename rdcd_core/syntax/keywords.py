@@ -5,4 +5,5 @@ The lexer takes its keywords from grammar.lark; tests/syntax/test_lexer.py check
 KEYWORDS: tuple[str, ...] = (
     "abstract", "role", "extends", "modifies", "constant", "startup", "behavior", "command",
     "if", "else", "deployment", "self", "state", "travelling", "neighbours", "children",
+    "sequence", "parallel",
 )

@@ -69,7 +69,7 @@ def _parse(text: str, previous: ParseResult | None) -> ParseResult:
 
 
 def _result(text: str, lexed: LexResult, driven: tuple[tuple, Recovery, list]) -> ParseResult:
-    (roles, deployment, states), recovery, (too_deep, too_long) = driven
+    (roles, deployment, states, sequences), recovery, (too_deep, too_long) = driven
     if too_deep or too_long:
         roles = _drop_too_deep(roles, too_deep, too_long, recovery.diagnostics)
     if deployment is None:
@@ -83,7 +83,8 @@ def _result(text: str, lexed: LexResult, driven: tuple[tuple, Recovery, list]) -
         diagnostics.append(make(E_MISSING_DEPLOYMENT, Span(end, end),
                                 "missing deployment: end the program with 'deployment { RoleA, RoleB }'"))
     diagnostics.sort(key=lambda d: (d.span.start, d.span.end))
-    program = ast.Program(roles, deployment, Span(0, len(text)), tuple(lexed.comments), states)
+    program = ast.Program(roles, deployment, Span(0, len(text)), tuple(lexed.comments), states,
+                          sequences)
     return ParseResult(program, diagnostics, text)
 
 
