@@ -35,7 +35,7 @@ def by_id(report: dict) -> dict[int, dict]:
 
 
 def kinds(report: dict) -> list[str]:
-    return [e["kind"] for e in report["events"] if e["kind"] not in ("command", "program", "role")]
+    return [e["kind"] for e in report["events"] if e["kind"] not in ("command", "program", "role", "links")]
 
 
 def test_move_one_moves_a_module_and_latches_it_elsewhere() -> None:

@@ -228,8 +228,8 @@ def test_final_role_is_the_first_deployed_role_that_holds(roles, order, config, 
         lines.append(f"role {name} {{ {' '.join(body)} }}")
     text = "\n".join(lines) + f"\ndeployment {{ {', '.join(deployment)} }}\n"
     checked = check_text(text)
-    if checked.has_errors:
-        return
+    if checked.has_errors or any(d.code in ("W601", "E601") for d in checked.diagnostics):
+        return  # a fragment over the packet limit never reaches the other modules (issue 25)
     world, _ = world_with(text, config)
 
     def first_holding() -> dict[int, str | None]:

@@ -97,7 +97,7 @@ def test_completion_on_incomplete_text(example: Analysis) -> None:
     assert {"turnTowards", "center_position", "setLed"} <= found
     prefixed = broken.replace("self.\n", "self.tur\n", 1)
     assert labels(prefixed, prefixed.index("self.tur\n") + 8, example) == {
-        "turnContinuously", "turnTowards", "turnDegrees"}
+        "turnContinuously", "turnTowards", "turnDegrees", "turnQuarters"}
 
 
 def test_completion_of_own_plain_methods_and_mixin_constants() -> None:
