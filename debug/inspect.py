@@ -58,8 +58,8 @@ def names(runtime: Any, frame: Frame | None, run: Any) -> dict[str, Any]:
         "errors": len(runtime.errors), "programs_run": runtime.programs_run, "runs": runtime.runs,
         "lattice_x": None, "lattice_y": None, "lattice_z": None,
     }
-    if run is not None:
-        spec = run.structure.modules[runtime.module_id]
+    spec = run.structure.modules.get(runtime.module_id) if run is not None else None
+    if spec is not None:  # a detached module has no cell
         out["lattice_x"], out["lattice_y"], out["lattice_z"] = spec.position
     for k in range(SENSORS):
         out[f"sensor{k}"] = _sensor(runtime, k)
@@ -208,7 +208,8 @@ class Inspector:
         gradient is debugged by comparing these with the neighbour's own State), and which module
         is attached there now."""
         mapping = runtime.mapping
-        attached = run.structure.neighbours(runtime.module_id) if run is not None else {}
+        attached = (run.structure.neighbours(runtime.module_id)
+                    if run is not None and runtime.module_id in run.structure.modules else {})
         published = [e for e in getattr(getattr(run, "program", None), "states", None) or ()
                      if e.index < PUBLISHED_SLOTS]
         cache = getattr(runtime, "neighbour_cache", None)
@@ -233,7 +234,7 @@ class Inspector:
     def connections(self, runtime: Any, run: Any) -> list[str]:
         """The module's latched connections now: its physical connector, the module and connector
         on the other side."""
-        if run is None:
+        if run is None or runtime.module_id not in run.structure.modules:  # detached: none
             return []
         return [f"connector {c} ↔ module {peer} connector {pc}"
                 for c, (peer, pc) in sorted(run.structure.neighbours(runtime.module_id).items())]

@@ -115,8 +115,8 @@ def test_cli_shows_the_equals_2_halt_of_default_code_on_the_firmware(tmp_path: P
                         "--duration", "9", "--vm", "original", "--target", "default")
     assert done.returncode == 0, done.stderr
     assert "(original VM, program compiled for the default target)" in done.stdout
-    assert "module 1, fragment discover_Head_Body, pc 24: unknown instruction 8 (EQUALS_2); module halted" \
-        in done.stdout
+    assert ("module 1, fragment discover_Head_Body, pc 24, line 30: unknown instruction 8 (EQUALS_2); "
+            "module halted") in done.stdout  # line 30 of snake_wave.rdcd: the invariant that compiled to it
     assert report is not None and (report["vm"], report["target"]) == ("original", "default")
     assert not report["modules"][0]["errors"]
     (error,) = report["modules"][1]["errors"]
