@@ -25,7 +25,8 @@ def program_of(text: str):  # noqa: ANN201
 
 
 def run(text: str, config: str, duration: float, changes: tuple[str, ...] = (), **kw: object) -> dict:
-    options = Options(world=str(kw.pop("world", "lattice")), config=config, obstacle=str(kw.pop("obstacle", "none")),
+    options = Options(world=str(kw.pop("world", "lattice")), config=config,
+                      obstacle=str(kw.pop("obstacle", "none")),
                       duration=duration, outside_changes=parse_all(list(changes)), **kw)  # type: ignore[arg-type]
     return simulate(program_of(text), load_config(config), options)
 
