@@ -111,7 +111,8 @@ def facts(report: dict[str, Any]) -> dict[str, Any]:
     """What a row keeps: each remaining module's final cell, the latched module pairs, the parts."""
     return {"cells": [[m["id"], *m["final_lattice"]] for m in report["modules"]
                       if m.get("final_lattice") is not None],
-            "links": sorted({(min(c[0], c[2]), max(c[0], c[2])) for c in report.get("connections", [])}),
+            "links": [list(pair) for pair in  # lists: a row is JSON
+                      sorted({(min(c[0], c[2]), max(c[0], c[2])) for c in report.get("connections", [])})],
             "parts": len(report.get("parts") or [1])}
 
 
