@@ -149,7 +149,8 @@ def distance(trajectory: list[list[float]]) -> float | None:
 
 
 def summary(report: dict[str, Any]) -> str:
-    roles = Counter(m["final_role"] or "none" for m in report["modules"])
+    roles = Counter("taken away" if "final_lattice" in m and m["final_lattice"] is None
+                    else m["final_role"] or "none" for m in report["modules"])
     sizes = ", ".join(f"{f['name']} {f['size']}" for f in report["fragments"])
     total = sum(f["size"] for f in report["fragments"])
     lines = [
@@ -166,6 +167,9 @@ def summary(report: dict[str, Any]) -> str:
     changed = structure_report.summary_line(report)
     if changed:
         lines.append(changed)
+    roles_after = structure_report.roles_line(report)
+    if roles_after:
+        lines.append(roles_after)
     traj = report["trajectory"]
     if traj:
         (x0, y0), (x1, y1) = traj[0][1:3], traj[-1][1:3]

@@ -44,3 +44,35 @@ def summary_line(report: dict[str, Any]) -> str | None:
             words.append(f"{counts[kind]} {label}")
     parts = len(report.get("parts") or [1])
     return "structure: " + (", ".join(words) or "no change") + (f"; now {parts} parts" if parts > 1 else "")
+
+
+def roles_line(report: dict[str, Any]) -> str | None:
+    """What the outside changes did to roles: 'roles after the outside changes: module 3 LeftWheel →
+    none, ...; 1 taken away; roles settled 1.02 s after the last change', or None without any.
+    A module's role before is its role at the first change; modules taken away are not counted
+    (their runtime stopped with them)."""
+    outside = [e["t"] for e in report["events"] if e["kind"] == "outside"]
+    if not outside:
+        return None
+    first, last = min(outside), max(outside)
+    changed, gone, settled = [], 0, None
+    for m in report["modules"]:
+        history = m.get("role_history") or []
+        if m.get("final_lattice") is None and "final_lattice" in m:
+            gone += 1
+            continue
+        before = None
+        for t, role in history:
+            if t <= first:
+                before = role
+        if before != m["final_role"]:
+            changed.append(f"module {m['id']} {before or 'none'} → {m['final_role'] or 'none'}")
+        later = [t for t, _ in history if t > last]
+        if later:
+            settled = max(settled or 0.0, max(later) - last)
+    words = ", ".join(changed) if changed else "every module kept its role"
+    if gone:
+        words += f"; {gone} taken away"
+    if settled is not None:
+        words += f"; roles settled {settled:.2f} s after the last change"
+    return "roles after the outside changes: " + words

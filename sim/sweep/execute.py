@@ -89,7 +89,10 @@ def _warm(task: dict[str, Any]):  # noqa: ANN202 - CompiledProgram
 def _simulate(task: dict[str, Any], program: Any) -> dict[str, Any]:
     from sim.config import structure_from_json
     from sim.run import Options, simulate
+    from sim.sweep.experiment import CHANGES, parse_changes
 
-    structure = structure_from_json(task["config"], source=task["options"].get("config", "configuration"))
-    report = simulate(program, structure, Options(**task["options"]))
+    options = dict(task["options"])
+    changes = parse_changes(options.pop(CHANGES, "") or "")
+    structure = structure_from_json(task["config"], source=options.get("config", "configuration"))
+    report = simulate(program, structure, Options(**options, outside_changes=changes))
     return measures(report, structure)

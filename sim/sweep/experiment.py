@@ -19,9 +19,10 @@ from sim.sweep.grid import Axis, Grid, range_axis
 from sim.sweep.options import OptionSpec, check_values, compile_like_simulate, defaults, sweepable
 from sim.sweep.rows import CHECKS, METRICS
 from sim.sweep.state_checks import HeldBy, StateCheck, parse_held_by, parse_state
+from sim.sweep.structure_checks import Shape, StructureCheck, parse_structure, shape_of
 
 TOP_KEYS = ("title", "program", "out", "time_limit_s", "parquet", "run", "grid", "success")
-SUCCESS_KEYS = ("checks", "min_turn_deg", "bounds", "state", "held_by")
+SUCCESS_KEYS = ("checks", "min_turn_deg", "bounds", "state", "held_by", "structure")
 RANGE_KEYS = ("from", "to", "step")
 DEFAULT_CHECKS = ("roles",)
 DEFAULT_MIN_TURN_DEG = 15.0
@@ -56,6 +57,7 @@ class Experiment:
     parquet: bool | None
     state: tuple[StateCheck, ...] = ()  # [success.state] (sim/sweep/state_checks.py)
     held_by: tuple[HeldBy, ...] = ()  # [success.held_by]
+    structure: tuple[StructureCheck, ...] = ()  # [success.structure] (sim/sweep/structure_checks.py)
 
     @property
     def size(self) -> int:
@@ -63,7 +65,7 @@ class Experiment:
 
     @property
     def option_names(self) -> list[str]:
-        return list(sweepable())
+        return [*sweepable(), CHANGES]
 
     @property
     def cell_axes(self) -> list[str]:
@@ -105,28 +107,35 @@ class _Reader:
         run = self.table(data, "run")
         grid_table = self.table(data, "grid")
         specs = sweepable()
-        self.known(run, tuple(specs), "run.")
-        self.known(grid_table, tuple(specs), "grid.")
+        self.known(run, (*specs, CHANGES), "run.")
+        self.known(grid_table, (*specs, CHANGES), "grid.")
         if not grid_table:
             raise self.fail("grid", "empty: give at least one axis, e.g. seed = { from = 1, to = 10 }")
-        fixed = defaults()
+        fixed = {**defaults(), CHANGES: ""}
         for name, raw in run.items():
             if name in grid_table:
                 raise self.fail(f"run.{name}", "also an axis of [grid]: give it in one place")
-            fixed[name] = self.value(f"run.{name}", raw, specs[name])
-        axes = tuple(self.axis(name, raw, specs[name]) for name, raw in grid_table.items())
+            fixed[name] = (self.changes(f"run.{name}", raw) if name == CHANGES
+                           else self.value(f"run.{name}", raw, specs[name]))
+        axes = tuple(self.changes_axis(raw) if name == CHANGES else self.axis(name, raw, specs[name])
+                     for name, raw in grid_table.items())
         for axis in axes:
             fixed.pop(axis.name, None)
-        self.check_values(fixed, axes)
+        self.check_values({k: v for k, v in fixed.items() if k != CHANGES},
+                          tuple(a for a in axes if a.name != CHANGES))
         vms = next((a.values for a in axes if a.name == "vm"), None) or (fixed.get("vm"),)
         digests = {vm: self.compiled(program_path, text, vm) for vm in dict.fromkeys(vms)}
         configs = self.configs(fixed, axes)
+        self.check_changes(fixed, axes, configs)
         checks, min_turn, bounds = self.success(data)
         state, held_by = self.final_state(data)
+        structure, problem = parse_structure(self.table(data, "success").get("structure", {}), self.shape)
+        if problem is not None:
+            raise ExperimentError(f"{self.file}: {problem}")
         return Experiment(self.file, self.string(data, "title", self.file.stem), program_path, text, digests,
                           fixed, Grid(axes), configs, checks, min_turn, bounds,
                           self.time_limit(data, fixed, axes), self.out(data), self.parquet(data),
-                          state, held_by)
+                          state, held_by, structure)
 
     def known(self, table: dict[str, Any], allowed: tuple[str, ...], prefix: str) -> None:
         for key in table:
@@ -210,6 +219,62 @@ class _Reader:
         shape = "a list" if spec.kind is str else "a list or a range { from = ..., to = ..., step = ... }"
         raise self.fail(key, f"must be {shape}, not {_kind(raw)}")
 
+    def changes(self, key: str, raw: Any) -> str:
+        """One set of outside changes: a change text or a list of them, as ``rdcd simulate --change``
+        takes them; kept as one string, the changes joined by "; " ("" for none)."""
+        from vm.lattice.outside import ChangeError, parse_all
+
+        texts = [raw] if isinstance(raw, str) else raw
+        if not isinstance(texts, list) or not all(isinstance(t, str) for t in texts):
+            what = "a list with other things in it" if isinstance(raw, list) else _kind(raw)
+            raise self.fail(key, f"must be a change (\"20s:detach 3\") or a list of change texts, not {what}")
+        if any(";" in t or "\n" in t for t in texts):
+            raise self.fail(key, "one change per string (no ';' or line breaks in it)")
+        try:
+            parse_all(texts)
+        except ChangeError as error:
+            raise self.fail(key, str(error)) from None
+        return "; ".join(t.strip() for t in texts if t.split("#", 1)[0].strip())
+
+    def changes_axis(self, raw: Any) -> Axis:
+        """[grid] changes: a list of sets of changes; each a change text or a list of texts."""
+        key = f"grid.{CHANGES}"
+        if not isinstance(raw, list) or not raw:
+            raise self.fail(key, "must be a non-empty list of sets of changes, e.g. [[], [\"20s:detach 3\"]]")
+        return Axis(CHANGES, tuple(self.changes(f"{key}[{i}]", v) for i, v in enumerate(raw)))
+
+    def check_changes(self, fixed: dict[str, Any], axes: tuple[Axis, ...],
+                      configs: dict[str, ConfigEntry]) -> None:
+        """Every set of changes against every configuration and the shortest duration (a missing
+        module, an occupied cell, a time past the end), as ``rdcd simulate`` checks them."""
+        from sim.config import structure_from_json
+        from vm.lattice.outside import ChangeError, validate
+
+        axis = next((a for a in axes if a.name == CHANGES), None)
+        sets = axis.values if axis is not None else (fixed[CHANGES],)
+        key = f"grid.{CHANGES}" if axis is not None else f"run.{CHANGES}"
+        durations = next((a.ends() for a in axes if a.name == "duration"), [fixed.get("duration", 60.0)])
+        for i, text in enumerate(sets or ()):
+            if not text:
+                continue
+            changes = parse_changes(text)
+            for name, entry in configs.items():
+                try:
+                    validate(changes, structure_from_json(entry.data, source=name), min(durations))
+                except ChangeError as error:
+                    where = f"{key}[{i}]" if axis is not None else key
+                    raise self.fail(where, f"on {name}: {error}") from None
+
+    def shape(self, name: str) -> Shape:
+        """[success.structure] shape: the configuration's cells and latched pairs."""
+        from sim.config import structure_from_json
+
+        try:
+            entry = self.config("success.structure.shape", name)
+        except ExperimentError as error:
+            raise ValueError(str(error).split(": ", 2)[-1]) from None
+        return shape_of(structure_from_json(entry.data, source=name), name)
+
     def check_values(self, fixed: dict[str, Any], axes: tuple[Axis, ...]) -> None:
         problem = check_values(fixed)
         if problem:
@@ -292,6 +357,16 @@ class _Reader:
         if value is not None and not isinstance(value, bool):
             raise self.fail("parquet", f"must be true or false, not {_kind(value)}")
         return value
+
+
+CHANGES = "changes"  # the outside changes of a run: one string, changes joined by "; "
+
+
+def parse_changes(text: str) -> list:
+    """The ``OutsideChange`` list of a run's ``changes`` value."""
+    from vm.lattice.outside import parse_all
+
+    return parse_all([t for t in text.split(";") if t.strip()])
 
 
 def program_digest(program: Any) -> str:

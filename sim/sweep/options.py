@@ -61,6 +61,9 @@ def simulate_argv(program: str, values: dict[str, Any]) -> list[str]:
     for name, spec in sweepable().items():
         value = values.get(name, spec.default)
         argv += [spec.flag, number_text(value) if isinstance(value, float) else str(value)]
+    for change in (values.get("changes") or "").split(";"):  # an experiment's outside changes
+        if change.strip():
+            argv += ["--change", change.strip()]
     return argv
 
 

@@ -131,7 +131,7 @@ def write_index(plan: Plan, cells: list[dict[str, Any]], images: list[Path], com
         criteria += f" (turned ≥ {e.min_turn_deg:g}°)"
     for metric, (low, high) in e.bounds.items():
         criteria += f", {metric} in [{'' if low is None else low}, {'' if high is None else high}]"
-    for check in (*e.state, *e.held_by):
+    for check in (*e.state, *e.held_by, *e.structure):
         criteria += f", {check.describe()}"
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(e.title)}</title>

@@ -12,7 +12,9 @@ from typing import Any
 
 from sim import scenario
 from sim.report import distance, heading_change
+from sim.sweep import structure_checks
 from sim.sweep.state_checks import HeldBy, StateCheck, facts, holds
+from sim.sweep.structure_checks import StructureCheck
 from vm.lattice.structure import Structure
 
 # Named checks of the obstacle scenario; "turned" is judged from turn_deg against the experiment's angle.
@@ -61,29 +63,35 @@ def measures(report: dict[str, Any], structure: Structure) -> dict[str, Any]:
               "straight": straight["straight"] if traj else False,
               "no_detection": straight["no_detection"]}
     row.update({f"check_{name}": bool(value) for name, value in checks.items()})
-    row["final"] = facts(report, structure)  # for [success.state] / [success.held_by]; not a column
+    # for [success.state], [success.held_by] and [success.structure]; not a column
+    row["final"] = {**facts(report, structure), **structure_checks.facts(report)}
     return row
 
 
 def succeeded(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
               bounds: dict[str, tuple[float | None, float | None]], state: tuple[StateCheck, ...] = (),
-              held_by: tuple[HeldBy, ...] = ()) -> bool:
+              held_by: tuple[HeldBy, ...] = (), structure: tuple[StructureCheck, ...] = ()) -> bool:
     """The experiment's verdict on a row: it ran, every named check holds, every bound holds, every
-    final-state check holds."""
-    return row.get("status") == "ok" and not failures(row, checks, min_turn_deg, bounds, state, held_by)
+    final-state and final-structure check holds."""
+    return row.get("status") == "ok" and not failures(row, checks, min_turn_deg, bounds, state, held_by,
+                                                      structure)
 
 
 def criteria(checks: tuple[str, ...], bounds: dict[str, tuple[float | None, float | None]],
-             state: tuple[StateCheck, ...] = (), held_by: tuple[HeldBy, ...] = ()) -> list[str]:
+             state: tuple[StateCheck, ...] = (), held_by: tuple[HeldBy, ...] = (),
+             structure: tuple[StructureCheck, ...] = ()) -> list[str]:
     """The names of an experiment's success criteria: its checks, then its bounded measures, then
-    ``final_state`` when it tests final state or who holds a role."""
+    ``final_state`` when it tests final state or who holds a role, then one ``structure_KEY`` per
+    key of [success.structure]."""
     names = [*checks, *(name for name in bounds if name not in checks)]
-    return [*names, "final_state"] if state or held_by else names
+    if state or held_by:
+        names.append("final_state")
+    return [*names, *(check.criterion for check in structure)]
 
 
 def failures(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
              bounds: dict[str, tuple[float | None, float | None]], state: tuple[StateCheck, ...] = (),
-             held_by: tuple[HeldBy, ...] = ()) -> list[str]:
+             held_by: tuple[HeldBy, ...] = (), structure: tuple[StructureCheck, ...] = ()) -> list[str]:
     """The criteria (names as in ``criteria``) a completed run does not meet; [] for a success."""
     failed = []
     for name in checks:
@@ -100,4 +108,4 @@ def failures(row: dict[str, Any], checks: tuple[str, ...], min_turn_deg: float,
             failed.append(metric)
     if (state or held_by) and not holds(row.get("final"), state, held_by):
         failed.append("final_state")
-    return failed
+    return failed + structure_checks.failures(row.get("final"), structure)

@@ -39,7 +39,7 @@ def rows(plan: Plan) -> Iterator[dict[str, Any]]:
         row = plan.store.read(key)
         if row is None:
             continue
-        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by)
+        row["success"] = succeeded(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by, e.structure)
         yield row
 
 
@@ -69,7 +69,7 @@ def summary(plan: Plan) -> list[dict[str, Any]]:
     that misses two counts in both). The rate counts completed runs; runs that failed (crashed,
     timed out) are counted apart."""
     e = plan.experiment
-    names = criteria(e.checks, e.bounds, e.state, e.held_by)
+    names = criteria(e.checks, e.bounds, e.state, e.held_by, e.structure)
     cells: dict[tuple, Cell] = {}
     axes = e.cell_axes
     for row in rows(plan):
@@ -79,7 +79,8 @@ def summary(plan: Plan) -> list[dict[str, Any]]:
         if row["status"] == "ok":
             cell.ok += 1
             cell.successes += bool(row["success"])
-            for name in failures(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by):
+            for name in failures(row, e.checks, e.min_turn_deg, e.bounds, e.state, e.held_by,
+                                 e.structure):
                 cell.missed[name] = cell.missed.get(name, 0) + 1
     return [cell.as_row() for cell in cells.values()]
 
@@ -149,7 +150,7 @@ def _arrow_type(pa: Any, name: str, plan: Plan) -> Any:
 def write_summary_csv(plan: Plan, cells: list[dict[str, Any]]) -> Path:
     path = plan.store.root / "summary.csv"
     e = plan.experiment
-    missed = criteria(e.checks, e.bounds, e.state, e.held_by)
+    missed = criteria(e.checks, e.bounds, e.state, e.held_by, e.structure)
     names = list(cells[0]) if cells else [*e.cell_axes, "runs", "completed", "failed", "successes",
                                           "success_rate", "ci95_low", "ci95_high",
                                           *(f"{FAILED_PREFIX}{n}" for n in missed)]
@@ -172,7 +173,7 @@ def summary_text(plan: Plan, cells: list[dict[str, Any]]) -> str:
         rate = "-" if c["success_rate"] is None else f"{100 * c['success_rate']:.0f}%"
         interval = ("-" if c["success_rate"] is None
                     else f"{100 * c['ci95_low']:.0f}-{100 * c['ci95_high']:.0f}%")
-        body.append([*(_text(c[a]) for a in axes), str(c["runs"]), str(c["failed"]),
+        body.append([*(_text(c[a]) or "none" for a in axes), str(c["runs"]), str(c["failed"]),
                      f"{c['successes']}/{c['completed']}", rate, interval, missed_text(c) or "-"])
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
     last = len(head) - 1  # the missed checks: text, left-aligned like the axes

@@ -265,3 +265,38 @@ def test_move_one_moves_and_relatches_the_module_in_physics_as_in_the_lattice() 
     assert reports["physics"]["connections"] == reports["lattice"]["connections"]
     assert [m["final_lattice"] for m in reports["physics"]["modules"]] == \
         [m["final_lattice"] for m in reports["lattice"]["modules"]]
+
+
+def _run_example(name: str, config: str, world: str, duration: float, change: str,
+                 obstacle: str = "none") -> dict:
+    from vm.lattice.outside import parse_all
+
+    text = (EXAMPLES / name).read_text(encoding="utf-8")
+    program = compile_model(check_text(text).model, text=text)
+    options = Options(world=world, config=config, obstacle=obstacle, duration=duration,
+                      outside_changes=parse_all([change]))
+    return simulate(program, load_config(config), options)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("change", "lost"), [("3s:detach 3", {}), ("3s:detach 1", {3: None, 4: None})])
+def test_lose_a_wheel_in_physics_the_roles_follow_the_new_shape_as_in_the_lattice(
+        change: str, lost: dict) -> None:
+    from sim.report import summary
+
+    roles = {}
+    for world in ("lattice", "physics"):
+        report = _run_example("lose_a_wheel.rdcd", "car7", world, 6.0, change, "wall:1.0")
+        roles[world] = {m["id"]: m["final_role"] for m in report["modules"] if m["final_lattice"] is not None}
+        assert "roles after the outside changes" in summary(report)
+    assert roles["physics"] == roles["lattice"]
+    assert all(roles["physics"][m] is None for m in lost)
+    assert "Axle" in roles["physics"].values()
+
+
+@pytest.mark.slow
+def test_grow_in_physics_the_attached_module_joins_the_gradient() -> None:
+    report = _run_example("grow.rdcd", "snake5", "physics", 5.0, "2s:attach 5 at 1,5,0 rot 1")
+    modules = {m["id"]: m for m in report["modules"]}
+    assert modules[5]["final_role"] == "Node"
+    assert [modules[m]["final_state"]["hops"] for m in range(6)] == [0, 1, 2, 3, 4, 5]
