@@ -23,6 +23,7 @@ from sim import geometry as g
 from sim import params
 from sim.frames import hemi_placement
 from sim.replay.recording import quantise_quaternion
+from sim.shapes import matrix_to_quat
 from vm.lattice.joint import wrap
 from vm.lattice.structure import ModuleSpec
 
@@ -69,7 +70,6 @@ def _turned(q: tuple[float, float, float, float], frame: Any) -> list[int]:
     if frame is None:
         return quantise_quaternion(q)
     from sim.poses import quat_matrix
-    from sim.shapes import matrix_to_quat
 
     return quantise_quaternion(matrix_to_quat(np.array(quat_matrix(q)) @ np.array(frame)))
 
@@ -83,9 +83,15 @@ def _about(axis: np.ndarray, degrees: float) -> np.ndarray:
 
 
 def _quat(m: np.ndarray) -> list[int]:
-    from sim.shapes import matrix_to_quat
-
     return quantise_quaternion(matrix_to_quat(m))
+
+
+def _qmul(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, float, float, float]:
+    """The rotation b then a, (x, y, z, w) quaternions."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz)
 
 
 def lattice_sampler(world: Any, ids: list[int], specs: dict[int, ModuleSpec]) -> Callable[[], list[int]]:
@@ -125,23 +131,44 @@ def lattice_sampler(world: Any, ids: list[int], specs: dict[int, ModuleSpec]) ->
         return out
 
     def pose(mid: int, spec: ModuleSpec, motion: Any, extra: float) -> list[int]:
+        if motion is None:
+            return still(mid, spec, extra)
         centre = np.array(spec.position, dtype=float)
         placements = {h: hemi_placement(spec, h) for h in (0, 1)}
         n = placements[1][:, 1]
         if extra:
             placements[1] = _about(n, -extra) @ placements[1]
-        if motion is not None:
-            pivot, axis, degrees, moving, _ = motion
-            turn = _about(axis, degrees)
-            if moving == -1:
-                centre = pivot + turn @ (centre - pivot)
-                placements = {h: turn @ p for h, p in placements.items()}
-            else:
-                placements[moving] = turn @ placements[moving]
+        pivot, axis, degrees, moving, _ = motion
+        turn = _about(axis, degrees)
+        if moving == -1:
+            centre = pivot + turn @ (centre - pivot)
+            placements = {h: turn @ p for h, p in placements.items()}
+        else:
+            placements[moving] = turn @ placements[moving]
         x, y, z = centre * u
         out = [_mm(x), _mm(y), _mm(z + lift)]
         for h, start in halves[mid]:
             out += _quat(placements[h] @ start)
+        return out + [1]
+
+    bases: dict[int, tuple[int, Any]] = {}  # module -> (structure version, its pose at rest)
+
+    def still(mid: int, spec: ModuleSpec, extra: float) -> list[int]:
+        """No turn carries it: the structure's pose, the south hemisphere turned by ``extra`` about
+        its pole (quaternion arithmetic: a wheel turns every sample)."""
+        base = bases.get(mid)
+        if base is None or base[0] != s.version:
+            x, y, z = np.array(spec.position, dtype=float) * u
+            rest = [(h, matrix_to_quat(hemi_placement(spec, h) @ start)) for h, start in halves[mid]]
+            base = bases[mid] = (s.version, ([_mm(x), _mm(y), _mm(z + lift)], rest,
+                                             tuple(hemi_placement(spec, 1)[:, 1])))
+        centre, rest, (nx, ny, nz) = base[1]
+        half = math.radians(-extra) / 2
+        sn, c = math.sin(half), math.cos(half)
+        turn = (nx * sn, ny * sn, nz * sn, c)
+        out = list(centre)
+        for h, q in rest:
+            out += quantise_quaternion(_qmul(turn, q) if h == 1 and extra else q)
         return out + [1]
 
     def sample() -> list[int]:
