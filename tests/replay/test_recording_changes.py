@@ -130,3 +130,14 @@ def test_a_module_detached_in_the_physics_world_goes() -> None:
     assert rows[times < 1.0, k, PRESENT].all() and not rows[times > 1.05, k, PRESENT].any()
     assert any(e[1] == 3 and e[2] == "outside" for e in recording.events)
     assert not any(3 in (a, b) for a, _, b, _ in report["connections"])
+
+
+def test_a_module_attached_in_the_physics_world_appears_on_its_cell() -> None:
+    recording, *_ = _run("grow.rdcd", "snake5", "physics", 2.0, ["1s:attach 5 at 1,5,0 rot 1"])
+    rows = _rows(recording)
+    times = np.array(recording.times)
+    k = recording.ids.index(5)
+    assert not rows[times < 1.0, k, PRESENT].any() and rows[times > 1.05, k, PRESENT].all()
+    x, y, _ = lattice_to_world((1, 5, 0))
+    assert np.allclose(rows[-1, k, :2], (x * 1000, y * 1000), atol=10)  # on its cell, within 1 cm
+    assert (5, "program") in [(e[1], e[2]) for e in recording.events]
