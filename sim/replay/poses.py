@@ -160,15 +160,21 @@ def lattice_sampler(world: Any, ids: list[int], specs: dict[int, ModuleSpec]) ->
         if base is None or base[0] != s.version:
             x, y, z = np.array(spec.position, dtype=float) * u
             rest = [(h, matrix_to_quat(hemi_placement(spec, h) @ start)) for h, start in halves[mid]]
-            base = bases[mid] = (s.version, ([_mm(x), _mm(y), _mm(z + lift)], rest,
+            base = bases[mid] = (s.version, ([_mm(x), _mm(y), _mm(z + lift)],
+                                             [(h, q, quantise_quaternion(q)) for h, q in rest],
                                              tuple(hemi_placement(spec, 1)[:, 1])))
         centre, rest, (nx, ny, nz) = base[1]
         half = math.radians(-extra) / 2
-        sn, c = math.sin(half), math.cos(half)
+        sn, c = math.sin(half) * 32767, math.cos(half) * 32767
         turn = (nx * sn, ny * sn, nz * sn, c)
         out = list(centre)
-        for h, q in rest:
-            out += quantise_quaternion(_qmul(turn, q) if h == 1 and extra else q)
+        for h, q, quantised in rest:
+            if h == 1 and extra:  # a unit quaternion times 32767: as quantise_quaternion, w >= 0
+                turned = _qmul(turn, q)
+                sign = -1 if turned[3] < 0 else 1
+                out += [round(sign * v) for v in turned]
+            else:
+                out += quantised
         return out + [1]
 
     def sample() -> list[int]:
