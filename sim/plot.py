@@ -1,4 +1,6 @@
-"""Top view of a run: path, obstacles, detections, reversals, modules coloured by final role."""
+"""Top view of a run: path, obstacles, detections, reversals, modules coloured by final role, and
+what changed in the structure (markers on the path at the times of its changes, and a line under
+the picture listing them: docs/simulator.md "Structures that change")."""
 
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from matplotlib.patches import Circle, Rectangle  # noqa: E402
 from rdcd_core.outputs import write_with  # noqa: E402
 from sim import params  # noqa: E402
 from sim.geometry import lattice_to_world  # noqa: E402
+from sim.plot_changes import CHANGE_MARKS, changes_text, structure_changes  # noqa: E402
 from sim.report import heading_change  # noqa: E402
 from sim.scenario import reverse_spans  # noqa: E402
 from vm.lattice.structure import Structure  # noqa: E402
@@ -33,14 +36,35 @@ def _rotate(dx: float, dy: float, heading_deg: float) -> tuple[float, float]:
     return dx * math.cos(h) - dy * math.sin(h), dx * math.sin(h) + dy * math.cos(h)
 
 
+def _mark_changes(ax: Any, traj: list[list[float]], changes: list[tuple[float, str, str]]) -> None:
+    labelled = set()
+    for t, kind, _ in changes:
+        if kind not in CHANGE_MARKS or not traj:
+            continue
+        marker, colour, label = CHANGE_MARKS[kind]
+        p = _point_at(traj, t)
+        ax.scatter([p[0]], [p[1]], marker=marker, s=70, color=colour, edgecolor="black", linewidth=0.7,
+                   zorder=8, label=None if label in labelled else label)
+        labelled.add(label)
+
+
 def _draw_car(ax: Any, report: dict[str, Any], pose: list[float], colours: dict[str | None, str],
-              alpha: float) -> None:
-    """The modules at a pose of the trajectory (the robot is drawn rigid, joints at rest)."""
+              alpha: float, at_end: bool = False) -> None:
+    """The modules at a pose of the trajectory (the robot is drawn rigid, joints at rest). At the
+    start, modules attached later are left out; at the end, modules taken away, and a module that
+    moved is drawn on its final cell."""
     start = report["trajectory"][0]
     cx0, cy0 = start[1], start[2]
+    attached = {e["module"] for e in report.get("events", []) if e["kind"] == "attach"}
     for m in report["modules"]:
+        gone = at_end and "final_lattice" in m and m["final_lattice"] is None
+        if gone or (not at_end and m["id"] in attached):
+            continue
         xy0 = report.get("module_start_xy", {}).get(str(m["id"])) or lattice_to_world(m["lattice"])
         x, y = xy0[0] - cx0, xy0[1] - cy0
+        if at_end and m.get("final_lattice") and m["final_lattice"] != m["lattice"]:  # moved to another cell
+            a, b = lattice_to_world(m["final_lattice"]), lattice_to_world(m["lattice"])
+            x, y = x + a[0] - b[0], y + a[1] - b[1]
         dx, dy = _rotate(x, y, pose[3] - start[3])
         ax.add_patch(Circle((pose[1] + dx, pose[2] + dy), params.MODULE_RADIUS, alpha=alpha,
                             facecolor=colours[m["final_role"]], edgecolor="black", linewidth=0.4, zorder=3))
@@ -57,7 +81,7 @@ def plot_report(report: dict[str, Any], structure: Structure | None, path: str) 
     traj = report["trajectory"]
     if traj:
         _draw_car(ax, report, traj[0], colours, 0.35)
-        _draw_car(ax, report, traj[-1], colours, 0.9)
+        _draw_car(ax, report, traj[-1], colours, 0.9, at_end=True)
         ax.plot([p[1] for p in traj], [p[2] for p in traj], color="black", linewidth=1.2,
                 label="path (centre)", zorder=4)
         pts = [_point_at(traj, e["t"]) for e in report["events"] if e["kind"] == "handler"]
@@ -72,6 +96,8 @@ def plot_report(report: dict[str, Any], structure: Structure | None, path: str) 
                 ax.scatter([seg[0][1]], [seg[0][2]], marker="v", s=40, color="red", edgecolor="black",
                            zorder=7, label="reversal starts" if i == 0 else None)
         ax.scatter([traj[0][1]], [traj[0][2]], marker="o", color="green", zorder=5, label="start")
+    changes = structure_changes(report)
+    _mark_changes(ax, traj, changes)
     for role in roles:
         ax.scatter([], [], color=colours[role], edgecolor="black", s=60, label=f"role {role or 'none'}")
     turn = heading_change(traj)
@@ -88,6 +114,9 @@ def plot_report(report: dict[str, Any], structure: Structure | None, path: str) 
     ax.grid(True, linewidth=0.3)
     ax.legend(loc="best", fontsize=7, framealpha=0.85)
     fig.tight_layout()
+    if changes:  # what changed, under the picture (the lattice world has no path to mark it on)
+        fig.subplots_adjust(bottom=0.14)
+        fig.text(0.01, 0.01, changes_text(changes), fontsize=7, wrap=True)
     try:
         # the format named by the extension (checked by the command line), written atomically
         picture_format = Path(path).suffix[1:].lower() or "png"

@@ -30,18 +30,24 @@ def report_fields(final: Structure, events: list[dict[str, Any]]) -> dict[str, A
 
 
 def summary_line(report: dict[str, Any]) -> str | None:
-    """'structure: 2 connects, 1 rotation (1 failed), 1 split, ...; 2 parts', or None."""
+    """'structure: 1 latched, 1 turn done, 1 split, 1 outside change (20s:detach 3); now 2 parts',
+    or None when nothing changed."""
     counts = report.get("structure_changes") or {}
     if not counts:
         return None
     words = []
-    for kind, label in (("connect", "latched"), ("disconnect", "unlatched"), ("rotation_end", "turns done"),
-                        ("rotation_failed", "turns failed"), ("connect_failed", "latches failed"),
-                        ("disconnect_failed", "unlatches failed"), ("split", "splits"),
-                        ("outside", "outside changes"), ("outside_failed", "outside changes failed"),
-                        ("joint_unmodelled", "joints turned without moving the structure")):
-        if counts.get(kind):
-            words.append(f"{counts[kind]} {label}")
+    for kind, one, many in (("connect", "latched", "latched"), ("disconnect", "unlatched", "unlatched"),
+                            ("rotation_end", "turn done", "turns done"),
+                            ("rotation_failed", "turn failed", "turns failed"),
+                            ("connect_failed", "latch failed", "latches failed"),
+                            ("disconnect_failed", "unlatch failed", "unlatches failed"),
+                            ("split", "split", "splits"), ("outside", "outside change", "outside changes"),
+                            ("outside_failed", "outside change failed", "outside changes failed"),
+                            ("joint_unmodelled", "joint turned without moving the structure",
+                             "joints turned without moving the structure")):
+        n = counts.get(kind)
+        if n:
+            words.append(f"{n} {one if n == 1 else many}{_outside(report) if kind == 'outside' else ''}")
     parts = len(report.get("parts") or [1])
     return "structure: " + (", ".join(words) or "no change") + (f"; now {parts} parts" if parts > 1 else "")
 
@@ -76,3 +82,14 @@ def roles_line(report: dict[str, Any]) -> str | None:
     if settled is not None:
         words += f"; roles settled {settled:.2f} s after the last change"
     return "roles after the outside changes: " + words
+
+
+def _outside(report: dict[str, Any], shown: int = 3) -> str:
+    """' (20s:detach 3, 25:stop 5)': the outside changes as they were given, the first few."""
+    texts = [str((e.get("detail") or {}).get("change", "")) for e in report.get("events", [])
+             if e.get("kind") == "outside"]
+    texts = [t for t in texts if t]
+    if not texts:
+        return ""
+    more = f", +{len(texts) - shown} more" if len(texts) > shown else ""
+    return " (" + ", ".join(texts[:shown]) + more + ")"

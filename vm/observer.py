@@ -67,3 +67,7 @@ class RuntimeObserver:
 
     def traced(self, runtime: ModuleNode, text: str, code: bytes | None, pc: int | None) -> None:
         """ACTIVATE_DEBUG is on: the instruction at ``pc`` is about to execute."""
+
+    def action_started(self, runtime: ModuleNode, kind: str, arg: int, code: bytes, pc: int) -> None:
+        """A connector or joint action ("connect", "disconnect", "turn") is asked of the world by the
+        instruction at ``pc``; the world's answer comes as a change of the structure."""

@@ -465,6 +465,8 @@ class ModuleRuntime(ShapeNode):
         """CONNECT, DISCONNECT, TURN_QUARTERS: ask the world; the run waits for its answer. The
         log entry names the code and the instruction, for the report's source line."""
         self._log("action", {"action": kind, "arg": arg, "code": code, "pc": pc})
+        if self.observer is not None:
+            self.observer.action_started(self, kind, arg, code, pc)
         if kind == "turn":
             self.hal.rotate_quarters(arg)
         elif kind == "connect":

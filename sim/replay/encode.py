@@ -1,6 +1,6 @@
 """The recording as compact JSON for the page: numbers quantised, columns delta-coded, deflated.
 
-Poses: an (samples × modules·11) int32 table, differences along time, stored column by column
+Poses: an (samples × modules·12) int32 table, differences along time, stored column by column
 (each channel of each module in turn), zlib-compressed, base64. Packets: seven int32 columns the
 same way (time in ms, sender, receiver, physical connector, size, type, dropped). The viewer
 inflates them with the browser's DecompressionStream and sums the differences back.
@@ -26,7 +26,8 @@ def packed(table: np.ndarray) -> str:
 
 
 def poses(recording: Recording) -> dict[str, Any]:
-    table = np.array(recording.rows, dtype=np.int64).reshape(len(recording.rows), -1)
+    rows = recording.filled_rows()
+    table = np.array(rows, dtype=np.int64).reshape(len(rows), -1)
     times = np.round(np.array(recording.times) * 1000).astype(np.int64).reshape(-1, 1)
     return {"count": len(recording.rows), "channels": CHANNELS,
             "times": packed(times), "data": packed(table)}

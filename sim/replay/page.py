@@ -36,11 +36,13 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
     stored = recording.stored_fragments()
     by_id = {m["id"]: m for m in report["modules"]}
     modules = []
-    for mid in sorted(structure.modules):
-        spec = structure.modules[mid]
+    specs = recording.specs or structure.modules  # every module ever in the world, as it appeared
+    for mid in recording.ids or sorted(structure.modules):
+        spec = specs[mid]
         entry = by_id.get(mid, {})
         modules.append({"id": mid, "lattice": list(spec.position), "axis": AXIS_NAMES[spec.axis],
-                        "wheel": wheel_side(structure, mid),
+                        "wheel": wheel_side(structure, mid) if mid in structure.modules else 0,
+                        "final_lattice": entry.get("final_lattice", list(spec.position)),
                         "connectors": [[round(c, 4) for c in g.connector_direction(spec.axis, v)]
                                        for v in range(8)],
                         "pole": list(g.AXIS_VECTORS[spec.axis]),
@@ -71,6 +73,7 @@ def replay_data(recording: Recording, program: CompiledProgram, structure: Struc
                        "lines": list(f.source), "pc_lines": [list(p) for p in f.source_lines]}
                       for f in program.fragments],
         "events": recording.events,
+        "links": recording.links,
         "poses": encode.poses(recording),
         "packets": encode.packets(recording),
     }

@@ -7,8 +7,15 @@ commands, errors), the network's ``on_send``, the physics world's ``on_detection
 loop, which it splits into sample intervals (``advance`` of both worlds is whole physics steps /
 VM ticks, so splitting changes nothing).
 
-Poses: per sample and module, the centre (mm) and the rotation since the start of each of its
-two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``).
+Poses: per sample and module, the centre (mm), the rotation since the start of each of its
+two hemispheres (unit quaternions, x 32767), quantised to int16 (``sim.replay.encode``), and
+whether the module is in the world then. Structures change (docs/replay.md): the modules are
+every module of the start structure and every module an outside change attaches (``specs``: each
+as it first appears); a module not yet attached, or taken away, is absent (its pose is the
+nearest one it had, so nothing flies in from the origin). ``links`` is every latch that opened
+or closed, [t, a, a's connector, b, b's connector, 1 latched / 0 unlatched], from the run's
+structure; the structure's events (connect, rotation, split, outside change...) are events too,
+placed on the source line of the action that caused them.
 """
 
 from __future__ import annotations
@@ -18,6 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from sim.replay.changes import describe_change
 from sim.replay.sources import SourceIndex
 from vm.interpreter import Outcome
 from vm.isa.opcodes import BY_OPCODE, PUSH_SMALL_BASE
@@ -33,7 +41,12 @@ MAX_MODULE_SAMPLES = 600_000  # module × samples: beyond this the sample rate i
 MAX_EVENTS = 100_000
 MAX_PACKETS = 300_000
 PACKET_KINDS = {PROGRAM: "program", COMMAND: "command", NOTIFY: "notify", ACK: "ack"}
-CHANNELS = 11  # x, y, z, then the quaternions (x, y, z, w) of the PLUS and MINUS hemispheres
+# x, y, z, the quaternions (x, y, z, w) of the PLUS and MINUS hemispheres, then 1 present / 0 absent
+CHANNELS = 12
+PRESENT = 11
+# the structure's events a module's own action caused (sim.run._ACTION_RESULTS): on its source line
+ACTION_RESULTS = frozenset({"connect", "disconnect", "connect_failed", "disconnect_failed", "rotation_start",
+                            "rotation_end", "rotation_failed"})
 
 
 @dataclass
@@ -51,6 +64,16 @@ class Recording:
     dropped_events: int = 0
     dropped_packets: int = 0
     runtimes: dict = field(default_factory=dict)
+    ids: list[int] = field(default_factory=list)  # every module that is ever in the world, sorted
+    specs: dict = field(default_factory=dict)  # module -> its ModuleSpec when it first appears
+    links: list[list[int | float]] = field(default_factory=list)  # [t, a, a_physical, b, b_physical, on]
+    _live: Any = None  # the run's structure (the one that changes)
+    _version: int = -1
+    _latched: set = field(default_factory=set)
+    _actions: dict = field(default_factory=dict)  # module -> where its last connector/joint action is
+    _watched: set = field(default_factory=set)  # modules whose runtime has a _Watcher
+    _world_runtimes: Any = None
+    _clock: Any = None
     _sample: Callable[[], list[int]] | None = None
     _last_command: dict = field(default_factory=dict)
     _origins: dict = field(default_factory=dict)  # (module, body bytes) -> fragment it was stored from
@@ -69,9 +92,11 @@ class Recording:
         from sim.replay.poses import physics_sampler
 
         self.world = "physics"
-        self._sample = physics_sampler(world, self.structure)
+        self._modules(world)
+        self._sample = physics_sampler(world, self.ids)
         self._attach_runtimes(runtimes, lambda: world.time)
         self._attach_network(world.network)
+        self._attach_changes(world, lambda: world.time)
         previous = world.on_detection
 
         def detected(mid: int, k: int) -> None:
@@ -85,9 +110,11 @@ class Recording:
         from sim.replay.poses import lattice_sampler
 
         self.world = "lattice"
-        self._sample = lattice_sampler(world, self.structure)
+        self._modules(world)
+        self._sample = lattice_sampler(world, self.ids, self.specs)
         self._attach_runtimes(world.runtimes, world.now)
         self._attach_network(world.network)
+        self._attach_changes(world, world.now)
         self.sample(0.0)
 
     def sampled(self, advance: Callable[[float], None],
@@ -109,8 +136,75 @@ class Recording:
             return
         if self.times and round(t, 3) <= self.times[-1]:
             return
+        self._adopt()
         self.times.append(round(t, 3))
         self.rows.append(self._sample())
+        self._follow_links(round(t, 3))
+
+    def filled_rows(self) -> list[list[int]]:
+        """The rows with each absent module's pose set to the nearest pose it has while present
+        (before it is attached: its first one), so that the viewer's interpolation stays put."""
+        rows = [list(r) for r in self.rows]
+        for i in range(len(self.ids)):
+            first = next((r for r in rows if r[i * CHANNELS + PRESENT]), None)
+            if first is None:
+                continue
+            pose = first[i * CHANNELS:i * CHANNELS + PRESENT]
+            for r in rows:
+                if r[i * CHANNELS + PRESENT]:
+                    pose = r[i * CHANNELS:i * CHANNELS + PRESENT]
+                else:
+                    r[i * CHANNELS:i * CHANNELS + PRESENT] = pose
+        return rows
+
+    # ---- structures that change ------------------------------------------------------------
+    def _modules(self, world: Any) -> None:
+        """Every module that will ever be in the world: the start's and the attached ones."""
+        from vm.lattice.structure import ModuleSpec
+
+        self._live = world.structure
+        self.specs = dict(self.structure.modules)
+        for c in getattr(world, "outside", []):
+            if c.kind == "attach" and c.module not in self.specs:
+                self.specs[c.module] = ModuleSpec(c.module, c.cell, c.axis, c.mount)
+        self.ids = sorted(self.specs)
+
+    def _follow_links(self, t: float) -> None:
+        live = self._live
+        if live is None or live.version == self._version:
+            return
+        self._version = live.version
+        now = {(k.a, k.a_physical, k.b, k.b_physical) for k in live.links()}
+        for link in sorted(self._latched - now):
+            self.links.append([t, *link, 0])
+        for link in sorted(now - self._latched):
+            self.links.append([t, *link, 1])
+        self._latched = now
+
+    def _attach_changes(self, world: Any, clock: Callable[[], float]) -> None:
+        """The structure's events (world.on_change); the runtimes of modules attached later are
+        watched from the next sample or structure event on (``_adopt``)."""
+        previous = world.on_change
+
+        def changed(t: float, mid: int, kind: str, detail: dict[str, Any]) -> None:
+            if previous is not None:
+                previous(t, mid, kind, detail)
+            self._adopt()
+            where, line = self._actions.get(mid, (None, -1)) if kind in ACTION_RESULTS else (None, -1)
+            self._event(t, mid, kind, where, line, describe_change(kind, detail))
+        world.on_change = changed
+        self._world_runtimes = world.runtimes
+        self._clock = clock
+
+    def _adopt(self) -> None:
+        """Watch the runtimes of modules attached since (their observer is not set yet)."""
+        runtimes = self._world_runtimes
+        if runtimes is None or len(runtimes) == len(self._watched):
+            return
+        for mid, runtime in runtimes.items():
+            if mid not in self._watched and getattr(runtime, "observer", None) is None:
+                runtime.observer = _Watcher(self, mid, self._clock)
+            self._watched.add(mid)
 
     # ---- hooks -----------------------------------------------------------------------------
     def _attach_runtimes(self, runtimes: dict, clock: Callable[[], float]) -> None:
@@ -119,10 +213,13 @@ class Recording:
             if getattr(runtime, "observer", None) is not None:
                 raise ValueError(f"module {mid} is already observed")
             runtime.observer = _Watcher(self, mid, clock)
+            self._watched.add(mid)
 
     def _attach_network(self, network: Any) -> None:
         def on_send(now: float, source: int, target: int, physical: int, packet: bytes,
                     dropped: bool) -> None:
+            if target not in self._watched:
+                self._adopt()  # a module attached a moment ago: watched before its first packet
             if len(self.packets) >= MAX_PACKETS:
                 self.dropped_packets += 1
                 return
@@ -254,6 +351,10 @@ class _Watcher(RuntimeObserver):
             where, line = self.rec._at(self.mid, code, pc)
         self.rec._event(self.clock(), self.mid, "error", where, line, f"error: {message}")
 
+    def action_started(self, runtime: Any, kind: str, arg: int, code: bytes, pc: int) -> None:
+        # the structure's event that answers it is placed on this instruction's line
+        self.rec._actions[self.mid] = self.rec._at(self.mid, code, pc)
+
     def traced(self, runtime: Any, text: str, code: bytes | None, pc: int | None) -> None:
         where, line = self.rec._at(self.mid, code, pc)
         self.rec._event(self.clock(), self.mid, "trace", where, line, f"trace: {text}")
@@ -282,3 +383,4 @@ def quantise_quaternion(q: tuple[float, float, float, float]) -> list[int]:
         x, y, z, w = -x, -y, -z, -w
     n = math.sqrt(x * x + y * y + z * z + w * w) or 1.0
     return [round(c / n * 32767) for c in (x, y, z, w)]
+

@@ -52,7 +52,7 @@ def test_move_one_moves_a_module_and_latches_it_elsewhere() -> None:
     end = next(e for e in report["events"] if e["kind"] == "rotation_end")
     assert end["t"] - start["t"] == pytest.approx(1.5, abs=0.02)  # a quarter of the joint's 6 s turn
     assert start["detail"]["line"] == 17 and start["detail"]["carried"] == [2]
-    assert "structure: 1 latched, 1 unlatched, 1 turns done" in _summary(report)
+    assert "structure: 1 latched, 1 unlatched, 1 turn done" in _summary(report)
     assert load_config("random4-seed109").links() == structure.links()  # the run changed a copy
 
 

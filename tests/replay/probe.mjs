@@ -91,6 +91,30 @@ try {
       }
       out.posted = await page.evaluate(() => window.__posted);
     }
+    if (options.structureTimes) {
+      // structures that change: modules present, centres of the given modules, latches drawn
+      out.structure = [];
+      for (const t of options.structureTimes) {
+        out.structure.push(await page.evaluate(([t, ids]) => {
+          const r = window.rdcdReplay;
+          const present = r.presentAt(t);
+          return { t: r.time(), present, centres: Object.fromEntries(ids.map((id) => [id, r.centreOf(id)])),
+            latches: r.latchesShown() };
+        }, [t, options.structureIds ?? []]));
+      }
+    }
+    if (options.markerEvent) {
+      // a real click on the timeline where the first structure marker of that kind is
+      const marker = await page.evaluate((kind) => window.rdcdReplay.markers().find((m) => m.event === kind) ?? null, options.markerEvent);
+      out.marker = marker;
+      if (marker) {
+        const box = await page.evaluate(() => { const b = document.querySelector(".rr-markers").getBoundingClientRect(); return { x: b.left, y: b.top, w: b.width, h: b.height }; });
+        const x = box.x + Math.round((marker.t / Math.max(out.duration, 1e-9)) * (box.w - 2)) + 2;
+        await page.mouse.click(x, box.y + box.h - 2);
+        out.sourcePanel = await page.evaluate(() => document.querySelector(".rr-source").textContent);
+        out.currentLine = await page.evaluate(() => document.querySelector(".rr-source .rr-current")?.textContent ?? null);
+      }
+    }
     if (options.play) {
       await page.click(".rr-play");
       await page.waitForTimeout(options.play);

@@ -156,3 +156,48 @@ def test_a_lattice_replay_with_errors_loads(tmp_path: Path) -> None:
     result = probe(page, times=[1.0])
     clean(result)
     assert "error" in result["text"] and "lost" in result["text"]
+
+
+@pytest.fixture(scope="module")
+def moved(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    """examples/move_one.rdcd in the lattice world: module 1 turns, carrying module 2 to (2, 0, 0)."""
+    need_browser()
+    folder = tmp_path_factory.mktemp("move_one")
+    page, report = folder / "move.html", folder / "move.json"
+    done = rdcd("simulate", str(EXAMPLES / "move_one.rdcd"), "--config", "random4-seed109",
+                "--world", "lattice", "--obstacle", "none", "--duration", "4", "--replay", str(page),
+                "--report", str(report))
+    assert done.returncode == 0, done.stderr
+    return page, json.loads(report.read_text())
+
+
+def test_a_moved_module_is_shown_on_its_new_cell_with_its_new_latch(moved: tuple[Path, dict]) -> None:
+    page, report = moved
+    turn = next(e for e in report["events"] if e["kind"] == "rotation_end")["t"]
+    result = probe(page, structureTimes=[0.0, turn / 2, 3.9], structureIds=[1, 2])
+    clean(result)
+    start, middle, end = result["structure"]
+    assert sorted(end["present"]) == [0, 1, 2, 3]
+    unit = 0.08  # sim.params.LATTICE_UNIT (m)
+    assert abs(start["centres"]["2"][0] - 2 * unit) < 1e-3 and abs(start["centres"]["2"][1] - unit) < 1e-3
+    assert abs(end["centres"]["2"][0] - 2 * unit) < 1e-3 and abs(end["centres"]["2"][1]) < 1e-3
+    assert abs(end["centres"]["2"][2] - end["centres"]["1"][2]) < 1e-3  # down beside module 1
+    pivot = start["centres"]["1"]
+
+    def radius(p: list[float]) -> float:
+        return sum((a - b) ** 2 for a, b in zip(p[1:], pivot[1:], strict=True)) ** 0.5
+    assert abs(radius(middle["centres"]["2"]) - radius(start["centres"]["2"])) < 2e-3  # going round
+    assert middle["centres"]["2"] not in (start["centres"]["2"], end["centres"]["2"])
+    assert [1, 7, 2, 4] in start["latches"] and [2, 0, 3, 7] not in start["latches"]
+    assert [2, 0, 3, 7] in end["latches"] and [1, 7, 2, 4] not in end["latches"]
+    assert sorted(end["latches"]) == sorted(report["connections"])
+
+
+def test_a_change_of_the_structure_is_marked_and_leads_to_its_source_line(moved: tuple[Path, dict]) -> None:
+    page, _ = moved
+    result = probe(page, markerEvent="rotation_start")
+    clean(result)
+    assert result["marker"]["kind"] == "structure"
+    assert "rotation_start" in result["sourcePanel"] and "move_one.rdcd:" in result["sourcePanel"]
+    assert "self.turnQuarters(1);" in result["currentLine"]
+    assert "structure" in result["text"]  # the timeline's legend names the new row

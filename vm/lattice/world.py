@@ -230,6 +230,12 @@ class LatticeWorld:
                                           "carried": list(check.moved)})
         return None
 
+    def turning(self) -> dict[int, tuple[int, int | None, float]]:
+        """Quarter turns under way (for viewers): module -> (quarters, moving hemisphere as given to
+        ``structure.rotate``, degrees turned so far, signed like quarters)."""
+        return {mid: (q, moving, (self.hals[mid].joint.turns - start) * (360.0 if q > 0 else -360.0))
+                for mid, (q, moving, start) in self._turning.items()}
+
     def _answer(self, change: Change, kind: str) -> int:
         if not change.ok:
             self.note(change.module, f"{kind}_failed", {**_where(change), "cause": change.cause,

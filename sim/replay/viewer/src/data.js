@@ -75,6 +75,22 @@ export function roleAt(module, t) {
   return role;
 }
 
+// the pose channel that says whether a module is in the world (sim/replay/recording.py PRESENT)
+export const PRESENT = 11;
+
+// the latches closed at time t: [[a, a's connector, b, b's connector], ...] from data.links, each
+// [t, a, ap, b, bp, 1 latched / 0 unlatched] in time order
+export function linksAt(links, t) {
+  const open = new Map();
+  for (const [time, a, ap, b, bp, on] of links) {
+    if (time > t + 1e-9) break;
+    const key = `${a}.${ap}-${b}.${bp}`;
+    if (on) open.set(key, [a, ap, b, bp]);
+    else open.delete(key);
+  }
+  return [...open.values()];
+}
+
 // value of channel `c` of module `i` at sample `s`
 export function channel(rec, i, c, s) {
   return rec.poses[(i * rec.channels + c) * rec.n + s];

@@ -40,7 +40,11 @@ class Replay {
     ui.filterBox.addEventListener("change", () => this.#listEvents(true));
     ui.markers.addEventListener("click", (e) => {
       const rect = ui.markers.getBoundingClientRect();
-      this.seek(((e.clientX - rect.left) / rect.width) * this.duration);
+      const t = ((e.clientX - rect.left) / rect.width) * this.duration;
+      // a change of the structure under the pointer: its event, with its source line
+      const near = this.#structureMarkerNear(t, (4 / Math.max(1, rect.width)) * this.duration);
+      if (near) this.showEvent(near.index);
+      else this.seek(t);
     });
     let down = null;
     const canvas = this.scene.renderer.domElement;
@@ -68,6 +72,15 @@ class Replay {
       this.drawPending = true;
       requestAnimationFrame(() => { this.drawPending = false; this.render(); });
     });
+  }
+
+  #structureMarkerNear(t, within) {
+    let best = null;
+    for (const marker of this.markers) {
+      if (marker.kind !== "structure" || Math.abs(marker.t - t) > within) continue;
+      if (!best || Math.abs(marker.t - t) < Math.abs(best.t - t)) best = marker;
+    }
+    return best;
   }
 
   resize() {
@@ -130,6 +143,11 @@ class Replay {
     const facts = el("dl");
     const add = (name, value) => facts.append(el("dt", "", name), el("dd", "", value));
     add("lattice", `(${module.lattice.join(", ")}) ${module.axis}`);
+    if (module.final_lattice && module.final_lattice.join() !== module.lattice.join()) {
+      add("final cell", `(${module.final_lattice.join(", ")})`);
+    } else if (module.final_lattice === null) {
+      add("final cell", "taken away");
+    }
     add("role now", roleAt(module, this.t) ?? "none");
     add("final role", module.final_role ?? "none");
     add("stored", module.fragments.length ? module.fragments.join(", ") : "nothing");
@@ -294,6 +312,10 @@ function hook(replay) {
     showEvent: (index) => replay.showEvent(index),
     markers: () => replay.markers.map((m) => ({ ...m })),
     packetsShown: () => ({ ...replay.scene.shownPackets }),
+    // structures that change: the modules in the world, a module's centre (m), the latches drawn
+    presentAt: (t) => { if (t !== undefined) replay.seek(t); return replay.scene.modules.filter((m) => m.present).map((m) => m.id); },
+    centreOf: (id) => { const m = replay.scene.modules[replay.rec.index.get(id)]; return m ? m.centre.toArray() : null; },
+    latchesShown: () => replay.scene.shownLinks.map((k) => [...k]),
     setFollow: (on) => { replay.ui.followBox.checked = !!on; replay.scene.follow = !!on; replay.render(); },
     measureFrames: (count, from, step) => replay.measureFrames(count, from, step),
   };

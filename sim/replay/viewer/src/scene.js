@@ -1,14 +1,18 @@
 // The 3D scene: ground, obstacles, modules (two hemispheres each, coloured by role, connectors and
-// rubber rings), the path trail and packets as brief links. The world is z-up as in sim/.
+// rubber rings), latches, the path trail and packets as brief links. The world is z-up as in sim/.
+// Structures change: a module is drawn only while the recording says it is in the world (channel
+// PRESENT), and a latch is drawn, over the shells, while data.links says it is closed.
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import {
   LOST_COLOUR, MAX_PACKET_LINES, NO_ROLE_COLOUR, PACKET_COLOURS, PACKET_SHOWN_S, ROLE_COLOURS,
 } from "./constants.js";
-import { channel, lastAtOrBefore, roleAt } from "./data.js";
+import { PRESENT, channel, lastAtOrBefore, linksAt, roleAt } from "./data.js";
 
 const UP = new THREE.Vector3(0, 1, 0);
 const LARGE = 40; // modules: above this, coarser shapes
+const LATCH_COLOUR = 0x1b7f3b;
+const HIDDEN = new THREE.Matrix4().makeScale(0, 0, 0);
 
 export class Scene {
   constructor(rec, container) {
@@ -36,6 +40,7 @@ export class Scene {
     this.#modules();
     this.#trail();
     this.#packets();
+    this.#latches();
     this.#frameCamera();
   }
 
@@ -108,12 +113,17 @@ export class Scene {
         }
         return { parts, quaternion: new THREE.Quaternion() };
       });
-      return { id: module.id, module, halves, centre: new THREE.Vector3(), colour: new THREE.Color(NO_ROLE_COLOUR) };
+      return { id: module.id, module, halves, centre: new THREE.Vector3(), colour: new THREE.Color(NO_ROLE_COLOUR),
+        present: true };
     });
     this.pickable = [this.shells];
   }
 
   #place(m) {
+    if (!m.present) {
+      for (const half of m.halves) for (const part of half.parts) part.mesh.setMatrixAt(part.index, HIDDEN);
+      return;
+    }
     const holder = new THREE.Matrix4();
     const world = new THREE.Matrix4();
     const one = new THREE.Vector3(1, 1, 1);
@@ -129,11 +139,15 @@ export class Scene {
     for (let s = 0; s < rec.n; s++) {
       let x = 0;
       let y = 0;
+      let count = 0;
       for (let i = 0; i < rec.m; i++) {
+        if (!channel(rec, i, PRESENT, s)) continue;
         x += channel(rec, i, 0, s);
         y += channel(rec, i, 1, s);
+        count++;
       }
-      positions.set([x / rec.m / 1000, y / rec.m / 1000, 0.002], s * 3);
+      count = Math.max(1, count);
+      positions.set([x / count / 1000, y / count / 1000, 0.002], s * 3);
     }
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute("position", new THREE.BufferAttribute(positions, 3));
@@ -156,11 +170,48 @@ export class Scene {
     this.lostLines = make(new THREE.LineDashedMaterial({ color: LOST_COLOUR, dashSize: 0.012, gapSize: 0.01 }));
   }
 
+  // latches: a line between the centres of the two modules, drawn over the shells
+  #latches() {
+    const count = Math.max(1, this.rec.data.links?.length ?? 0);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(count * 6), 3));
+    this.latchLines = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({
+      color: LATCH_COLOUR, depthTest: false, transparent: true, opacity: 0.9 }));
+    this.latchLines.renderOrder = 10;
+    this.latchLines.frustumCulled = false;
+    this.scene.add(this.latchLines);
+    this.shownLinks = [];
+  }
+
+  #updateLatches(t) {
+    const shown = linksAt(this.rec.data.links ?? [], t);
+    const position = this.latchLines.geometry.attributes.position.array;
+    let k = 0;
+    this.shownLinks = [];
+    for (const [a, ap, b, bp] of shown) {
+      const ma = this.modules[this.rec.index.get(a)];
+      const mb = this.modules[this.rec.index.get(b)];
+      if (!ma || !mb || !ma.present || !mb.present || 6 * (k + 1) > position.length) continue;
+      position.set([ma.centre.x, ma.centre.y, ma.centre.z, mb.centre.x, mb.centre.y, mb.centre.z], k * 6);
+      this.shownLinks.push([a, ap, b, bp]);
+      k++;
+    }
+    this.latchLines.geometry.setDrawRange(0, k * 2);
+    this.latchLines.geometry.attributes.position.needsUpdate = true;
+  }
+
+  // the centre of the modules in the world now
+  #present() {
+    const here = this.modules.filter((m) => m.present);
+    return here.length ? here : this.modules;
+  }
+
   #frameCamera() {
     this.update(0);
     const centre = new THREE.Vector3();
-    for (const m of this.modules) centre.add(m.centre);
-    centre.divideScalar(this.modules.length);
+    const here = this.#present();
+    for (const m of here) centre.add(m.centre);
+    centre.divideScalar(here.length);
     const span = Math.max(0.55, Math.sqrt(this.rec.m) * 0.14);
     this.controls.target.copy(centre);
     this.camera.position.set(centre.x - span * 1.6, centre.y - span * 2.2, centre.z + span * 1.8);
@@ -185,7 +236,10 @@ export class Scene {
     const qb = new THREE.Quaternion();
     for (let i = 0; i < this.modules.length; i++) {
       const m = this.modules[i];
-      const at = (c) => channel(rec, i, c, s) * (1 - f) + channel(rec, i, c, s2) * f;
+      m.present = channel(rec, i, PRESENT, s) !== 0;
+      // a module that appears or goes at the next sample does not glide: it stays at this pose
+      const g = channel(rec, i, PRESENT, s2) !== 0 && m.present ? f : 0;
+      const at = (c) => channel(rec, i, c, s) * (1 - g) + channel(rec, i, c, s2) * g;
       m.centre.set(at(0) / 1000, at(1) / 1000, at(2) / 1000);
       m.halves.forEach((half, h) => {
         const c0 = 3 + 4 * h;
@@ -193,7 +247,7 @@ export class Scene {
           channel(rec, i, c0 + 3, s)).normalize();
         qb.set(channel(rec, i, c0, s2), channel(rec, i, c0 + 1, s2), channel(rec, i, c0 + 2, s2),
           channel(rec, i, c0 + 3, s2)).normalize();
-        half.quaternion.slerpQuaternions(qa, qb, f);
+        half.quaternion.slerpQuaternions(qa, qb, g);
       });
       this.#place(m);
       const role = roleAt(m.module, t);
@@ -209,6 +263,7 @@ export class Scene {
       mesh.instanceMatrix.needsUpdate = true;
     }
     this.trail.geometry.setDrawRange(0, s + 1);
+    this.#updateLatches(t);
     this.#updatePackets(t);
     if (this.follow) this.#followRobot();
   }
@@ -250,8 +305,9 @@ export class Scene {
 
   #followRobot() {
     const centre = new THREE.Vector3();
-    for (const m of this.modules) centre.add(m.centre);
-    centre.divideScalar(this.modules.length);
+    const here = this.#present();
+    for (const m of here) centre.add(m.centre);
+    centre.divideScalar(here.length);
     const delta = centre.clone().sub(this.controls.target);
     this.controls.target.add(delta);
     this.camera.position.add(delta);

@@ -96,8 +96,8 @@ export function drawMarkers(canvas, markers, duration) {
   canvas.height = height;
   const g = canvas.getContext("2d");
   g.clearRect(0, 0, width, height);
-  const rows = { detection: 0, role: 1, reversal: 2, error: 3, lost: 4 };
-  const rowHeight = height / 5;
+  const rows = { detection: 0, role: 1, reversal: 2, error: 3, lost: 4, structure: 5 };
+  const rowHeight = height / 6;
   for (const marker of markers) {
     const x = Math.round((marker.t / Math.max(duration, 1e-9)) * (width - 2)) + 1;
     g.fillStyle = MARKER_COLOURS[marker.kind];
