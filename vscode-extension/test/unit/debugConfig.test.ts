@@ -65,7 +65,8 @@ describe("the debugger in package.json", () => {
     assert.ok(debuggerEntry);
     assert.deepEqual(debuggerEntry.languages, ["rdcd"]);
     assert.deepEqual(Object.keys(debuggerEntry.configurationAttributes.launch.properties).sort(), [
-      "config", "duration", "noDebug", "obstacle", "packetLoss", "program", "seed", "stopOnEntry", "target", "vm", "world",
+      "changes", "config", "duration", "noDebug", "obstacle", "packetLoss", "program", "seed", "stopOnEntry", "target", "vm",
+      "world",
     ]);
     assert.ok(debuggerEntry.configurationSnippets.length >= 2);
     assert.ok(manifest.activationEvents.includes("onDebugResolve:rdcd"));
