@@ -1,5 +1,5 @@
-"""What the plot and the summary say of a structure that changed (sim/plot_changes.py,
-sim/structure_report.summary_line)."""
+"""What the plot and the summary say of a structure that changed (sim/plot_changes.py, and
+summary_line in sim/structure_report.py)."""
 
 from __future__ import annotations
 
