@@ -19,9 +19,11 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field
+from typing import Protocol
 
+import numpy as np
 import pybullet as pb
 
 from sim import geometry as g
@@ -112,8 +114,9 @@ class _Plan:
     parent_joint: dict[int, tuple[int, int]]  # group -> (parent group, module whose joint joins them)
 
 
-def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
-    """Spanning tree of rigid groups joined by module joints.
+def _plan(mids: Collection[int], entry: int, groups: dict[Node, int]) -> _Plan:
+    """Spanning tree of rigid groups of the modules ``mids`` joined by module joints, rooted at
+    the group of ``entry``.
 
     A joint that would close a loop of groups is locked (its two groups merge), and the tree is
     built again: a loop of joints can only turn in special cases, and loop-closing constraints
@@ -127,7 +130,7 @@ def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
         return grp
 
     while True:
-        parent_joint, closing = _spanning_tree(structure, groups, find)
+        parent_joint, closing = _spanning_tree(mids, entry, groups, find)
         if not closing:
             break
         for mid in closing:
@@ -136,7 +139,7 @@ def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
                 merged[max(a, b)] = min(a, b)
     for node in groups:  # callers see the merged groups
         groups[node] = find(groups[node])
-    root = groups[(structure.entry, g.PLUS)]
+    root = groups[(entry, g.PLUS)]
     children: dict[int, list[int]] = {}
     for child, (par, _) in sorted(parent_joint.items()):
         children.setdefault(par, []).append(child)
@@ -148,16 +151,16 @@ def _plan(structure: Structure, groups: dict[Node, int]) -> _Plan:
     return _Plan(order, parent_joint)
 
 
-def _spanning_tree(structure: Structure, groups: dict[Node, int],
+def _spanning_tree(mids: Collection[int], entry: int, groups: dict[Node, int],
                    find: Callable[[int], int]) -> tuple[dict[int, tuple[int, int]], list[int]]:
     """(group -> (parent group, joining module)), and the modules whose joint closes a loop."""
     edges: dict[int, list[tuple[int, int]]] = {}
-    for mid in sorted(structure.modules):
+    for mid in sorted(mids):
         a, b = find(groups[(mid, g.PLUS)]), find(groups[(mid, g.MINUS)])
         if a != b:
             edges.setdefault(a, []).append((b, mid))
             edges.setdefault(b, []).append((a, mid))
-    root = find(groups[(structure.entry, g.PLUS)])
+    root = find(groups[(entry, g.PLUS)])
     parent_joint: dict[int, tuple[int, int]] = {}
     seen, used = {root}, set()
     queue = deque([root])
@@ -184,41 +187,112 @@ def _lift(structure: Structure) -> float:
 
 def rigid_part_count(structure: Structure) -> int:
     """How many rigid parts (PyBullet links) ``build_robot`` would make of ``structure``."""
-    return len(_plan(structure, rigid_groups(structure)).order)
+    return len(_plan(structure.modules, structure.entry, rigid_groups(structure)).order)
 
 
 def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> Robot:
     """Create the structure's multibody in ``client``; the entry module's centre at x = y = 0."""
-    groups = rigid_groups(structure)
-    plan = _plan(structure, groups)
-    if len(plan.order) + 1 > MAX_LINKS:
-        raise RobotError(f"{structure.name or 'structure'}: {len(plan.order)} rigid parts exceed "
-                         f"PyBullet's {MAX_LINKS} links per body")
     lift = _lift(structure)
     modules = {mid: ModuleBody(mid, g.add(g.lattice_to_world(s.position), (0.0, 0.0, lift)),
                                wheel_side=wheel_side(structure, mid))
                for mid, s in structure.modules.items()}
+    shell_visual: dict[int, tuple[int, int]] = {}
+    built = assemble_links(structure.modules, structure.entry, rigid_groups(structure), StartPoses(modules),
+                           modules, shell_visual, client, visuals=visuals,
+                           name=structure.name or "structure")
+    return Robot(built.body, modules, lift, len(built.plan.order), shell_visual, [built.body],
+                 dict(structure.modules))
+
+
+Quat = tuple[float, float, float, float]
+IDENTITY: Quat = (0.0, 0.0, 0.0, 1.0)
+
+
+class Poses(Protocol):
+    """Where the hemispheres of a body are: at the start (``StartPoses``) or in the world now
+    (``sim.topology``, after a change of shape). A link's frame is the frame of one of its
+    hemispheres, its *reference*."""
+
+    def base(self, ref: Node) -> tuple[g.Vec3, Quat]:
+        """World position and orientation of the root link's frame, whose reference is ``ref``."""
+        ...
+
+    def place(self, ref: Node, node: Node) -> tuple[g.Vec3, np.ndarray | None]:
+        """Hemisphere ``node``'s centre and frame in the link frame of ``ref`` (None: that frame)."""
+        ...
+
+    def joint(self, parent: Node, ref: Node) -> tuple[g.Vec3, Quat]:
+        """Position and orientation of the link frame of ``ref`` in the link frame of ``parent``."""
+        ...
+
+
+@dataclass
+class StartPoses:
+    """The lattice poses a structure starts in: every hemisphere frame is the world frame."""
+
+    modules: dict[int, ModuleBody]
+
+    def base(self, ref: Node) -> tuple[g.Vec3, Quat]:
+        return self.modules[ref[0]].centre0, IDENTITY
+
+    def place(self, ref: Node, node: Node) -> tuple[g.Vec3, np.ndarray | None]:
+        return g.sub(self.modules[node[0]].centre0, self.modules[ref[0]].centre0), None
+
+    def joint(self, parent: Node, ref: Node) -> tuple[g.Vec3, Quat]:
+        return g.sub(self.modules[ref[0]].centre0, self.modules[parent[0]].centre0), IDENTITY
+
+
+@dataclass
+class Assembly:
+    body: int
+    plan: _Plan
+    ref: dict[int, Node]  # group -> the hemisphere whose frame is its link's frame
+    axes: list[g.Vec3]  # each link's joint axis, in its own frame
+
+
+def assemble_links(specs: dict[int, ModuleSpec], entry: int, groups: dict[Node, int], poses: Poses,
+                   modules: dict[int, ModuleBody], shell_visual: dict[int, tuple[int, int]], client: int,
+                   *, visuals: bool, name: str) -> Assembly:
+    """One multibody of the modules of ``specs`` (each as created), hemispheres grouped by ``groups``
+    into rigid links, at ``poses``; the root link is fixed to a tiny anchor at the reference of the
+    group of ``entry``. Fills in the ``modules``' links, offsets, frames, joint and body, and
+    ``shell_visual``; every joint's motor holds still."""
+    plan = _plan(specs, entry, groups)
+    if len(plan.order) + 1 > MAX_LINKS:
+        raise RobotError(f"{name}: {len(plan.order)} rigid parts exceed PyBullet's {MAX_LINKS} links "
+                         "per body")
     members: dict[int, list[Node]] = {}
     for node, grp in sorted(groups.items()):
         members.setdefault(grp, []).append(node)
-    origin = {plan.order[0]: modules[structure.entry].centre0}
+    ref: dict[int, Node] = {plan.order[0]: (entry, g.PLUS)}
     for grp, (_, mid) in plan.parent_joint.items():
-        origin[grp] = modules[mid].centre0
+        ref[grp] = next(n for n in members[grp] if n[0] == mid)  # the joint's hemisphere in the group
     link_of = {grp: i for i, grp in enumerate(plan.order)}
-    cols, vis, pos, inert_pos, inert_orn, masses, inertias, parents, types, axes = ([] for _ in range(10))
-    shell_visual: dict[int, tuple[int, int]] = {}
+    cols, vis, pos, orns, inert_pos, inert_orn = ([] for _ in range(6))
+    masses, inertias, parents, types, axes = ([] for _ in range(5))
     ring_axes: dict[int, int] = {}  # link -> axis of the wheel whose ring it carries
     for i, grp in enumerate(plan.order):
-        parts = [_part(structure, modules, node, origin[grp]) for node in members[grp]]
-        shown = 0
-        for (mid, side), part in zip(members[grp], parts, strict=True):
-            modules[mid].links[side] = i
-            modules[mid].offsets[side] = g.sub(modules[mid].centre0, origin[grp])
-            if part.kind == "shell":
+        parts, shown = [], 0
+        for node in members[grp]:
+            mid, side = node
+            mb = modules[mid]
+            offset, turn = poses.place(ref[grp], node)
+            mb.links[side], mb.offsets[side] = i, offset
+            axis, pole_side = specs[mid].axis, side
+            if turn is not None:
+                if not np.allclose(turn, np.eye(3)):
+                    mb.frames[side] = tuple(tuple(r) for r in turn.tolist())
+                axis, pole_side = _axis_side(turn @ np.array(g.hemisphere_pole(axis, side)))
+            if mb.wheel_side == side:
+                kind = "ring"
+                ring_axes[i] = axis
+            elif side == (-mb.wheel_side if mb.wheel_side else g.PLUS):
+                kind = "shell"  # one sphere per module: it is symmetric about the joint axis
                 shell_visual[mid] = (i, shown)
-            elif part.kind == "ring":
-                ring_axes[i] = part.axis
-            shown += part.kind != "none"
+            else:
+                kind = "none"
+            shown += kind != "none"
+            parts.append(sh.Part(offset, axis, pole_side, kind))
         cols.append(sh.compound_collision(parts, client))
         vis.append(sh.compound_visual(parts, client) if visuals else -1)
         mass, com, diag, orn = sh.mass_properties(parts)
@@ -226,38 +300,48 @@ def build_robot(structure: Structure, client: int, *, visuals: bool = False) -> 
         inert_pos.append(com)
         inert_orn.append(orn)
         inertias.append(diag)
-        if i == 0:
+        if i == 0:  # the root link, fixed to the anchor
             parents.append(0)
             types.append(pb.JOINT_FIXED)
             axes.append((0.0, 0.0, 1.0))
             pos.append((0.0, 0.0, 0.0))
+            orns.append(IDENTITY)
             continue
         par, mid = plan.parent_joint[grp]
-        child_side = next(side for (m, side) in members[grp] if m == mid)
         parents.append(link_of[par] + 1)
         types.append(pb.JOINT_REVOLUTE)
-        axes.append(g.hemisphere_pole(structure.modules[mid].axis, child_side))
-        pos.append(g.sub(origin[grp], origin[par]))
+        axes.append(g.hemisphere_pole(specs[mid].axis, ref[grp][1]))  # the child's own pole
+        where, turned = poses.joint(ref[par], ref[grp])
+        pos.append(where)
+        orns.append(turned)
         modules[mid].joint = i
     n = len(plan.order)
+    base_position, base_orientation = poses.base(ref[plan.order[0]])
     body = pb.createMultiBody(
         baseMass=params.ANCHOR_MASS, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1,
-        basePosition=origin[plan.order[0]],
+        basePosition=base_position, baseOrientation=base_orientation,
         linkMasses=masses, linkCollisionShapeIndices=cols, linkVisualShapeIndices=vis,
-        linkPositions=pos, linkOrientations=[(0, 0, 0, 1)] * n, linkInertialFramePositions=inert_pos,
+        linkPositions=pos, linkOrientations=orns, linkInertialFramePositions=inert_pos,
         linkInertialFrameOrientations=inert_orn, linkParentIndices=parents,
         linkJointTypes=types, linkJointAxis=axes, physicsClientId=client)
     if body < 0 or pb.getNumJoints(body, physicsClientId=client) != n:
-        raise RobotError(f"{structure.name or 'structure'}: PyBullet could not build the body")
+        raise RobotError(f"{name}: PyBullet could not build the body")
     pb.changeDynamics(body, -1, localInertiaDiagonal=(params.ANCHOR_INERTIA,) * 3, physicsClientId=client)
     _set_dynamics(body, inertias, ring_axes, client)
-    for mb in modules.values():
+    for mid in specs:
+        mb = modules[mid]
+        mb.body = body
         if mb.joint is not None:
             pb.setJointMotorControl2(body, mb.joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
                                      force=params.JOINT_MAX_TORQUE, physicsClientId=client)
-    for mb in modules.values():
-        mb.body = body
-    return Robot(body, modules, lift, n, shell_visual, [body], dict(structure.modules))
+    return Assembly(body, plan, ref, axes)
+
+
+def _axis_side(pole: np.ndarray) -> tuple[int, int]:
+    """The lattice axis and side (PLUS/MINUS) of an axis-aligned pole vector."""
+    i = int(np.argmax(np.abs(pole)))
+    axis = next(a for a, vec in g.AXIS_VECTORS.items() if vec[i])
+    return axis, (g.PLUS if pole[i] > 0 else g.MINUS)
 
 
 def _set_dynamics(body: int, inertias: list[g.Vec3], ring_axes: dict[int, int], client: int) -> None:
@@ -274,16 +358,3 @@ def _set_dynamics(body: int, inertias: list[g.Vec3], ring_axes: dict[int, int], 
                           spinningFriction=params.RING_SPINNING_FRICTION if ring else 0.0,
                           linearDamping=0.0, angularDamping=0.0, jointDamping=params.JOINT_DAMPING,
                           physicsClientId=client)
-
-
-def _part(structure: Structure, modules: dict[int, ModuleBody], node: Node, origin: g.Vec3) -> sh.Part:
-    mid, side = node
-    mb, axis = modules[mid], structure.modules[mid].axis
-    centre = g.sub(mb.centre0, origin)
-    if mb.wheel_side == side:
-        kind = "ring"
-    elif side == (-mb.wheel_side if mb.wheel_side else g.PLUS):
-        kind = "shell"  # one sphere per module: it is symmetric about the joint axis
-    else:
-        kind = "none"
-    return sh.Part(centre, axis, side, kind)

@@ -25,7 +25,7 @@ from sim import geometry as g
 from sim import params
 from sim import shapes as sh
 from sim.poses import quat_matrix
-from sim.robot import MAX_LINKS, ModuleBody, Node, Robot, RobotError, _plan, _set_dynamics
+from sim.robot import Assembly, ModuleBody, Node, Quat, Robot, assemble_links
 from vm.lattice.structure import ModuleSpec
 
 Latch = tuple[int, int, int, int]  # module, physical connector, module, physical connector
@@ -39,14 +39,6 @@ class HemiState:
     rot: np.ndarray  # 3x3, hemisphere frame -> world
     velocity: np.ndarray  # of the centre
     spin: np.ndarray  # angular velocity
-
-
-@dataclass
-class _Topo:
-    """The two things ``sim.robot._plan`` reads of a structure."""
-
-    modules: dict[int, None]
-    entry: int
 
 
 def hemisphere_states(robot: Robot, client: int) -> dict[Node, HemiState]:
@@ -82,12 +74,6 @@ def snap_rotation(m: np.ndarray) -> np.ndarray:
 def snap_offset(v: np.ndarray) -> np.ndarray:
     u = params.LATTICE_UNIT
     return np.round(v / u) * u
-
-
-def _axis_side(pole: np.ndarray) -> tuple[int, int]:
-    i = int(np.argmax(np.abs(pole)))
-    axis = next(a for a, vec in g.AXIS_VECTORS.items() if vec[i])
-    return axis, (g.PLUS if pole[i] > 0 else g.MINUS)
 
 
 def glue_nodes(specs: dict[int, ModuleSpec], latches: Iterable[Latch]) -> list[tuple[Node, Node]]:
@@ -155,107 +141,53 @@ def rebuild(robot: Robot, specs: dict[int, ModuleSpec], latches: Iterable[Latch]
         roots = _groups(part, [(a, b) for a, b in glue if a[0] in mine])
         numbers: dict[Node, int] = {}
         groups = {node: numbers.setdefault(r, len(numbers)) for node, r in sorted(roots.items())}
-        body, count = _build_part(robot, specs, _Topo(dict.fromkeys(part), root_mid), groups, states,
-                                  modules, shell_visual, client, visuals)
-        bodies.append(body)
-        links += count
+        for mid in part:
+            old = robot.modules.get(mid)
+            centre0 = old.centre0 if old else tuple(states[(mid, g.PLUS)].centre.tolist())
+            modules[mid] = ModuleBody(mid, centre0, wheel_side=old.wheel_side if old else 0)
+        built = assemble_links({mid: specs[mid] for mid in part}, root_mid, groups, WorldPoses(states),
+                               modules, shell_visual, client, visuals=visuals, name="the changed structure")
+        _set_velocities(built, states, client)
+        bodies.append(built.body)
+        links += len(built.plan.order)
         if root_mid == entry:
-            main = body
+            main = built.body
     for old in robot.bodies:
         pb.removeBody(old, physicsClientId=client)
     return Robot(main if main >= 0 else bodies[0], modules, robot.lift, links, shell_visual, bodies,
                  dict(specs))
 
 
-def _build_part(robot: Robot, specs: dict[int, ModuleSpec], topo: _Topo, groups: dict[Node, int],
-                states: dict[Node, HemiState], modules: dict[int, ModuleBody],
-                shell_visual: dict[int, tuple[int, int]], client: int, visuals: bool) -> tuple[int, int]:
-    plan = _plan(topo, groups)  # type: ignore[arg-type]  # reads .modules and .entry only
-    if len(plan.order) + 1 > MAX_LINKS:
-        raise RobotError(f"{len(plan.order)} rigid parts exceed PyBullet's {MAX_LINKS} links per body")
-    members: dict[int, list[Node]] = {}
-    for node, grp in sorted(groups.items()):
-        members.setdefault(grp, []).append(node)
-    ref: dict[int, Node] = {plan.order[0]: (topo.entry, g.PLUS)}
-    for grp, (_, mid) in plan.parent_joint.items():
-        ref[grp] = next(n for n in members[grp] if n[0] == mid)
-    origin = {grp: states[node].centre for grp, node in ref.items()}
-    frame = {grp: states[node].rot for grp, node in ref.items()}
-    link_of = {grp: i for i, grp in enumerate(plan.order)}
-    for mid in topo.modules:
-        old = robot.modules.get(mid)
-        modules[mid] = ModuleBody(mid, old.centre0 if old else tuple(states[(mid, g.PLUS)].centre.tolist()),
-                                  wheel_side=old.wheel_side if old else 0)
-    cols, vis, pos, orns, inert_pos, inert_orn = ([] for _ in range(6))
-    masses, inertias, parents, types, axes = ([] for _ in range(5))
-    ring_axes: dict[int, int] = {}
-    for i, grp in enumerate(plan.order):
-        parts, shown = [], 0
-        rot_t = frame[grp].T
-        for node in members[grp]:
-            mid, side = node
-            mb, spec = modules[mid], specs[mid]
-            offset = snap_offset(rot_t @ (states[node].centre - origin[grp]))
-            turn = snap_rotation(rot_t @ states[node].rot)
-            mb.links[side], mb.offsets[side] = i, tuple(offset.tolist())
-            if not np.allclose(turn, np.eye(3)):
-                mb.frames[side] = tuple(tuple(r) for r in turn.tolist())
-            axis, pole_side = _axis_side(turn @ np.array(g.hemisphere_pole(spec.axis, side)))
-            if mb.wheel_side == side:
-                kind = "ring"
-                ring_axes[i] = axis
-            elif side == (-mb.wheel_side if mb.wheel_side else g.PLUS):
-                kind = "shell"
-                shell_visual[mid] = (i, shown)
-            else:
-                kind = "none"
-            shown += kind != "none"
-            parts.append(sh.Part(tuple(offset.tolist()), axis, pole_side, kind))
-        cols.append(sh.compound_collision(parts, client))
-        vis.append(sh.compound_visual(parts, client) if visuals else -1)
-        mass, com, diag, orn = sh.mass_properties(parts)
-        masses.append(mass)
-        inert_pos.append(com)
-        inert_orn.append(orn)
-        inertias.append(diag)
-        if i == 0:
-            parents.append(0)
-            types.append(pb.JOINT_FIXED)
-            axes.append((0.0, 0.0, 1.0))
-            pos.append((0.0, 0.0, 0.0))
-            orns.append((0.0, 0.0, 0.0, 1.0))
-            continue
-        par, mid = plan.parent_joint[grp]
-        parents.append(link_of[par] + 1)
-        types.append(pb.JOINT_REVOLUTE)
-        axes.append(g.hemisphere_pole(specs[mid].axis, ref[grp][1]))  # the child's own pole
-        pos.append(tuple(snap_offset(frame[par].T @ (origin[grp] - origin[par])).tolist()))
-        orns.append(sh.matrix_to_quat(frame[par].T @ frame[grp]))  # exact: a joint stands at any angle
-        modules[mid].joint = i
-    n = len(plan.order)
-    body = pb.createMultiBody(
-        baseMass=params.ANCHOR_MASS, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1,
-        basePosition=tuple(origin[plan.order[0]].tolist()),
-        baseOrientation=sh.matrix_to_quat(frame[plan.order[0]]),
-        linkMasses=masses, linkCollisionShapeIndices=cols, linkVisualShapeIndices=vis,
-        linkPositions=pos, linkOrientations=orns, linkInertialFramePositions=inert_pos,
-        linkInertialFrameOrientations=inert_orn, linkParentIndices=parents,
-        linkJointTypes=types, linkJointAxis=axes, physicsClientId=client)
-    if body < 0 or pb.getNumJoints(body, physicsClientId=client) != n:
-        raise RobotError("PyBullet could not build a changed structure")
-    pb.changeDynamics(body, -1, localInertiaDiagonal=(params.ANCHOR_INERTIA,) * 3, physicsClientId=client)
-    _set_dynamics(body, inertias, ring_axes, client)
-    root = states[ref[plan.order[0]]]
-    pb.resetBaseVelocity(body, tuple(root.velocity.tolist()), tuple(root.spin.tolist()),
-                         physicsClientId=client)
-    for grp, (par, _) in plan.parent_joint.items():
-        axis = frame[grp] @ np.array(axes[link_of[grp]])
-        rate = float((states[ref[grp]].spin - states[ref[par]].spin) @ axis)
-        pb.resetJointState(body, link_of[grp], 0.0, rate, physicsClientId=client)
-    for mid in topo.modules:
-        modules[mid].body = body
-        if modules[mid].joint is not None:
-            pb.setJointMotorControl2(body, modules[mid].joint, pb.VELOCITY_CONTROL, targetVelocity=0.0,
-                                     force=params.JOINT_MAX_TORQUE, physicsClientId=client)
-    return body, n
+@dataclass
+class WorldPoses:
+    """Where the hemispheres are now (``sim.robot.Poses``). A hemisphere sits in its link at its
+    lattice offset and quarter-turn orientation, snapped; a joint stands at whatever angle it has."""
 
+    states: dict[Node, HemiState]
+
+    def base(self, ref: Node) -> tuple[g.Vec3, Quat]:
+        st = self.states[ref]
+        return tuple(st.centre.tolist()), sh.matrix_to_quat(st.rot)
+
+    def place(self, ref: Node, node: Node) -> tuple[g.Vec3, np.ndarray | None]:
+        r, st = self.states[ref], self.states[node]
+        offset = snap_offset(r.rot.T @ (st.centre - r.centre))
+        return tuple(offset.tolist()), snap_rotation(r.rot.T @ st.rot)
+
+    def joint(self, parent: Node, ref: Node) -> tuple[g.Vec3, Quat]:
+        p, r = self.states[parent], self.states[ref]
+        where = snap_offset(p.rot.T @ (r.centre - p.centre))
+        return tuple(where.tolist()), sh.matrix_to_quat(p.rot.T @ r.rot)
+
+
+def _set_velocities(built: Assembly, states: dict[Node, HemiState], client: int) -> None:
+    """The new body moves on as its hemispheres moved: the root's velocity, each joint's rate."""
+    plan, ref = built.plan, built.ref
+    root = states[ref[plan.order[0]]]
+    pb.resetBaseVelocity(built.body, tuple(root.velocity.tolist()), tuple(root.spin.tolist()),
+                         physicsClientId=client)
+    link_of = {grp: i for i, grp in enumerate(plan.order)}
+    for grp, (par, _) in plan.parent_joint.items():
+        axis = states[ref[grp]].rot @ np.array(built.axes[link_of[grp]])
+        rate = float((states[ref[grp]].spin - states[ref[par]].spin) @ axis)
+        pb.resetJointState(built.body, link_of[grp], 0.0, rate, physicsClientId=client)
