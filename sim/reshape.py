@@ -21,6 +21,7 @@ tick the bodies are built again from where they are (``sim.topology``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -30,11 +31,12 @@ from sim import geometry as g
 from sim import params
 from sim.frames import cell_of, connector_direction, node_of, structure_frame
 from sim.joint import PhysicsJoint
-from sim.topology import HemiState, hemisphere_states, rebuild
+from sim.robot import MAX_LINKS
+from sim.topology import HemiState, hemisphere_states, largest_body, rebuild
 from vm.lattice import changes
 from vm.lattice.geometry import placement
 from vm.lattice.motion import quarter
-from vm.lattice.structure import ModuleSpec
+from vm.lattice.structure import ModuleSpec, Structure
 
 if TYPE_CHECKING:
     from sim.world import PhysicsWorld
@@ -64,8 +66,13 @@ class Shape:
                     f"connector {arg} of module {mid} is {gap * 100:.1f} cm from the connector it faces; "
                     f"a latch closes within {params.LATCH_DISTANCE * 100:g} cm")})
                 return 0
+            if self._beyond_links(mid, "connect_failed", lambda t: t.latch(mid, arg), {"connector": arg}):
+                return 0
             return self._done(s.latch(mid, arg), "connect")
         if kind == "disconnect":
+            if self._beyond_links(mid, "disconnect_failed", lambda t: t.unlatch(mid, arg),
+                                  {"connector": arg}):
+                return 0
             return self._done(s.unlatch(mid, arg), "disconnect")
         if kind == "turn":
             return self._turn(mid, arg)
@@ -128,18 +135,48 @@ class Shape:
                      detail if ok else {**detail, "reason": f"no module {c.module}"})
             return
         self.say(c.module, "outside", detail)
-        change = s.remove(c.module) if c.kind == "detach" else \
-            s.add(ModuleSpec(c.module, c.cell, c.axis, c.mount))
+
+        def make(t: Structure) -> Any:
+            return t.remove(c.module) if c.kind == "detach" else t.add(ModuleSpec(c.module, c.cell, c.axis,
+                                                                                   c.mount))
+
+        if self._beyond_links(c.module, "outside_failed", make, detail):
+            return
+        change = make(s)
         if not change.ok:
             self.say(c.module, "outside_failed", {**detail, "reason": change.reason})
 
     def detach(self, mid: int) -> int:
         """A person takes module ``mid`` away: its links open, it leaves the world."""
+        if self._beyond_links(mid, "detach_failed", lambda t: t.remove(mid), {}):
+            return 0
         return self._done(self.world.structure.remove(mid), "detach")
 
     def attach(self, spec: ModuleSpec) -> int:
         """A person puts a new module on a free cell against free connectors; they latch."""
+        if self._beyond_links(spec.id, "attach_failed", lambda t: t.add(spec), {}):
+            return 0
         return self._done(self.world.structure.add(spec), "attach")
+
+    def _beyond_links(self, mid: int, kind: str, change: Callable[[Structure], Any],
+                      detail: dict[str, Any]) -> bool:
+        """Whether ``change`` (tried first on a copy of the structure) would leave a body PyBullet
+        cannot build; if so it is said as ``kind`` with the cause "link_limit", and not made."""
+        s = self.world.structure
+        if len(s.modules) + 3 <= MAX_LINKS:  # n modules make at most n + 1 rigid parts in a body
+            return False
+        trial = s.copy()
+        if not change(trial).ok:  # the structure refuses it, and says why, when it is made
+            return False
+        specs = {m: self.world.robot.specs.get(m, spec) for m, spec in trial.modules.items()}
+        latches = [(k.a, k.a_physical, k.b, k.b_physical) for k in trial.links()]
+        parts = largest_body(specs, latches, trial.entry)
+        if parts + 1 <= MAX_LINKS:
+            return False
+        self.say(mid, kind, {**detail, "cause": "link_limit", "reason": (
+            f"the physics world cannot build the changed structure: {parts} rigid parts in one body, "
+            f"PyBullet takes at most {MAX_LINKS - 1}; use --world lattice")})
+        return True
 
     def stop(self, mid: int) -> int:
         """Module ``mid`` stops for good: no more steps, packets or motion; its joint holds."""

@@ -15,7 +15,7 @@ falls or lies where it is, and its modules go on running).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,7 +25,7 @@ from sim import geometry as g
 from sim import params
 from sim import shapes as sh
 from sim.poses import quat_matrix
-from sim.robot import Assembly, ModuleBody, Node, Quat, Robot, assemble_links
+from sim.robot import Assembly, ModuleBody, Node, Quat, Robot, _plan, assemble_links
 from vm.lattice.structure import ModuleSpec
 
 Latch = tuple[int, int, int, int]  # module, physical connector, module, physical connector
@@ -128,19 +128,12 @@ def rebuild(robot: Robot, specs: dict[int, ModuleSpec], latches: Iterable[Latch]
     """New multibodies for the modules of ``specs`` (each as created: its hemisphere frames),
     glued by ``latches``, at the poses and velocities of ``states``; the old bodies are removed.
     ``robot.modules`` gives each module's wheel ring; a module not in it has none."""
-    glue = glue_nodes(specs, latches)
-    mids = sorted(specs)
     modules: dict[int, ModuleBody] = {}
     shell_visual: dict[int, tuple[int, int]] = {}
     bodies: list[int] = []
     links = 0
     main = -1
-    for part in components(mids, glue):
-        mine = set(part)
-        root_mid = entry if entry in mine else part[0]
-        roots = _groups(part, [(a, b) for a, b in glue if a[0] in mine])
-        numbers: dict[Node, int] = {}
-        groups = {node: numbers.setdefault(r, len(numbers)) for node, r in sorted(roots.items())}
+    for part, root_mid, groups in _bodies(specs, latches, entry):
         for mid in part:
             old = robot.modules.get(mid)
             centre0 = old.centre0 if old else tuple(states[(mid, g.PLUS)].centre.tolist())
@@ -156,6 +149,24 @@ def rebuild(robot: Robot, specs: dict[int, ModuleSpec], latches: Iterable[Latch]
         pb.removeBody(old, physicsClientId=client)
     return Robot(main if main >= 0 else bodies[0], modules, robot.lift, links, shell_visual, bodies,
                  dict(specs))
+
+
+def _bodies(specs: dict[int, ModuleSpec], latches: Iterable[Latch],
+            entry: int) -> Iterator[tuple[list[int], int, dict[Node, int]]]:
+    """Each multibody the modules make: its modules, its root module, its rigid groups."""
+    glue = glue_nodes(specs, latches)
+    for part in components(sorted(specs), glue):
+        mine = set(part)
+        roots = _groups(part, [(a, b) for a, b in glue if a[0] in mine])
+        numbers: dict[Node, int] = {}
+        groups = {node: numbers.setdefault(r, len(numbers)) for node, r in sorted(roots.items())}
+        yield part, entry if entry in mine else part[0], groups
+
+
+def largest_body(specs: dict[int, ModuleSpec], latches: Iterable[Latch], entry: int) -> int:
+    """How many rigid parts (links) the largest multibody ``rebuild`` would make has."""
+    bodies = _bodies(specs, latches, entry)
+    return max((len(_plan(part, root, groups).order) for part, root, groups in bodies), default=0)
 
 
 @dataclass
