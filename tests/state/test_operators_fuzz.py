@@ -1,4 +1,4 @@
-"""Issue 25 through the adversarial harness of the state tests (test_state_adversarial.py): random
+"""Issue 25 through the adversarial harness of the state tests (random_programs.py): random
 programs with * / % and values known only at run time in every Module API call, through the parser,
 the checker, the compiler and the VM at 10 % packet loss. Nothing raises; an out-of-range value or
 a zero divisor is a runtime error that names it, never an internal error; values stay bytes."""
@@ -14,9 +14,9 @@ from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
 from sim.config import load_config
 from sim.run import role_table
+from tests.state.random_programs import NAMES, expressions, programs, run_car7
 from vm.lattice.world import LatticeWorld
 
-NAMES = ("a", "b", "c")
 ATOMS = ("a", "b", "c", "0", "1", "-1", "7", "-128", "127", "self.x()", "self.z()", "min(neighbours.a)",
          "count(children.a)", "max(b, c)")
 OPS = ("+", "-", "*", "/", "%")
@@ -25,37 +25,25 @@ CALLS = ("self.turnContinuously({})", "self.turnTowards({})", "self.turnDegrees(
 # what a run may end with, besides a full store or queue: the values the issue's instructions refuse
 EXPECTED = re.compile(r"division by zero|is outside|is not a multiple of 10|store|queue|slot|"
                       r"instructions in one run|stack overflow")
-
-
-@st.composite
-def expressions(draw: st.DrawFn, depth: int = 0) -> str:
-    if depth > 2 or draw(st.booleans()):
-        return draw(st.sampled_from(ATOMS))
-    op = draw(st.sampled_from(OPS))
-    return f"({draw(expressions(depth + 1))} {op} {draw(expressions(depth + 1))})"
+EXPRESSIONS = expressions(ATOMS, OPS, 2)
 
 
 @st.composite
 def statements(draw: st.DrawFn) -> str:
     kind = draw(st.sampled_from(("assign", "call", "if")))
     if kind == "call":
-        return draw(st.sampled_from(CALLS)).format(draw(expressions())) + ";"
-    assignment = f"{draw(st.sampled_from(NAMES))} := {draw(expressions())};"
+        return draw(st.sampled_from(CALLS)).format(draw(EXPRESSIONS)) + ";"
+    assignment = f"{draw(st.sampled_from(NAMES))} := {draw(EXPRESSIONS)};"
     if kind == "assign":
         return assignment
-    return f"if ({draw(expressions())} > {draw(expressions())}) {assignment}"
+    return f"if ({draw(EXPRESSIONS)} > {draw(EXPRESSIONS)}) {assignment}"
 
 
-@st.composite
-def programs(draw: st.DrawFn) -> str:
-    body = " ".join(draw(st.lists(statements(), min_size=1, max_size=3)))
-    kind = draw(st.sampled_from(("behavior", "startup")))
-    return (f"state a := {draw(st.integers(-128, 127))};\nstate b := 0;\nstate c := 127;\n"
-            f"role R {{ {kind} go() {{ {body} }} }}\nrole S {{ }}\ndeployment {{ R, S }}\n")
+PROGRAMS = programs(statements(), 3)
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(programs(), st.integers(0, 3))
+@given(PROGRAMS, st.integers(0, 3))
 def test_random_programs_with_the_new_operators_compile_and_run_safely(text: str, seed: int) -> None:
     result = check_text(text)
     if result.has_errors:  # a constant zero divisor (E212), 127 * 7 (E204), a fragment over 64 bytes
@@ -65,11 +53,7 @@ def test_random_programs_with_the_new_operators_compile_and_run_safely(text: str
     if program.has_errors:
         assert all(d.code.startswith(("E6", "W6")) for d in program.diagnostics), program.diagnostics
         return
-    world = LatticeWorld(load_config("car7"), role_table(program), seed=seed, packet_loss=0.1)
-    for name in program.injection:
-        world.inject(program.fragment(name).code)
-    world.advance(5.0)
-    for runtime in world.runtimes.values():
+    for runtime in run_car7(program, seed).runtimes.values():
         assert not runtime.halted
         for _, message in runtime.errors:
             assert "internal error" not in message and EXPECTED.search(message), message
@@ -123,7 +107,7 @@ def stateless_programs(draw: st.DrawFn) -> str:
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.one_of(programs(), stateless_programs()))
+@given(st.one_of(PROGRAMS, stateless_programs()))
 def test_for_the_firmware_the_new_operators_are_e605_or_code_it_runs(text: str) -> None:
     """--target original gains no instruction: a program either compiles to opcodes the firmware
     executes, or is refused with E605 (never silently different code)."""

@@ -14,42 +14,29 @@ from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
 from sim.config import load_config
 from sim.run import role_table
+from tests.state.random_programs import NAMES, expressions, programs, run_car7
 from vm.lattice.world import LatticeWorld
 
-NAMES = ("a", "b", "c")
 ATOMS = ("a", "b", "c", "1", "-128", "127", "0", "self.x()", "self.z()", "min(neighbours.a)",
          "max(neighbours(UP).b)", "count(children.a)", "sum(neighbours(3).c)", "min(a, 5)", "max(b, c)")
-
-
-@st.composite
-def expressions(draw: st.DrawFn, depth: int = 0) -> str:
-    if depth > 3 or draw(st.booleans()):
-        return draw(st.sampled_from(ATOMS))
-    op = draw(st.sampled_from(("+", "-")))
-    return f"({draw(expressions(depth + 1))} {op} {draw(expressions(depth + 1))})"
+EXPRESSIONS = expressions(ATOMS, ("+", "-"), 3)
 
 
 @st.composite
 def statements(draw: st.DrawFn) -> str:
     target = draw(st.sampled_from(NAMES))
-    value = draw(expressions())
+    value = draw(EXPRESSIONS)
     if draw(st.booleans()):
         return f"{target} := {value};"
     cmp = draw(st.sampled_from(("<", ">", "==", "!=")))
-    return f"if ({draw(expressions())} {cmp} {draw(expressions())}) {target} := {value};"
+    return f"if ({draw(EXPRESSIONS)} {cmp} {draw(EXPRESSIONS)}) {target} := {value};"
 
 
-@st.composite
-def programs(draw: st.DrawFn) -> str:
-    body = " ".join(draw(st.lists(statements(), min_size=1, max_size=4)))
-    invariant = draw(st.sampled_from(("", "a > 0;", "self.z() == b;", "count(neighbours.c) >= 0;")))
-    kind = draw(st.sampled_from(("behavior", "startup")))
-    return (f"state a := {draw(st.integers(-128, 127))};\nstate b := 0;\nstate c := 127;\n"
-            f"role R {{ {invariant} {kind} go() {{ {body} }} }}\nrole S {{ }}\ndeployment {{ R, S }}\n")
+PROGRAMS = programs(statements(), 4, ("", "a > 0;", "self.z() == b;", "count(neighbours.c) >= 0;"))
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(programs(), st.integers(0, 3))
+@given(PROGRAMS, st.integers(0, 3))
 def test_random_state_programs_compile_and_run_safely(text: str, seed: int) -> None:
     result = check_text(text)
     if result.has_errors:
@@ -58,11 +45,7 @@ def test_random_state_programs_compile_and_run_safely(text: str, seed: int) -> N
     if program.has_errors:  # e.g. a fragment over 64 bytes: reported, never raised
         assert all(d.code.startswith(("E6", "W6")) for d in program.diagnostics), program.diagnostics
         return
-    world = LatticeWorld(load_config("car7"), role_table(program), seed=seed, packet_loss=0.1)
-    for name in program.injection:
-        world.inject(program.fragment(name).code)
-    world.advance(5.0)
-    for runtime in world.runtimes.values():
+    for runtime in run_car7(program, seed).runtimes.values():
         assert not any("internal error" in message for _, message in runtime.errors), runtime.errors
         assert all(-128 <= v <= 127 for v in runtime.state)
 
