@@ -3,93 +3,24 @@ states (every module's scopes, its random generator, the joints unrounded, the b
 
 from __future__ import annotations
 
-import queue
-from pathlib import Path
-from typing import Any
-
 import pytest
 
 from debug.code import CodeIndex
-from debug.engine import Breakpoint, Engine, Goal, Scan, Sink, Step, Stop
-from debug.inspect import Inspector, names
+from debug.engine import Breakpoint, Engine, Goal
+from debug.inspect import names
 from debug.launch import prepare
-
-ROOT = Path(__file__).resolve().parents[2]
-OBSTACLE = ROOT / "examples" / "obstacle_avoidance.rdcd"
-
-
-class Stops(Sink):
-    def __init__(self) -> None:
-        self.q: queue.Queue[Any] = queue.Queue()
-
-    def stopped(self, stop: Stop) -> None:
-        self.q.put(stop)
-
-    def ended(self, run: Any) -> None:
-        self.q.put("ended")
-
-    def failed(self, message: str) -> None:
-        self.q.put(message)
-
-    def next(self) -> Stop:
-        item = self.q.get(timeout=120)
-        assert isinstance(item, Stop), item
-        return item
-
-
-def full_state(engine: Engine, inspector: Inspector) -> Any:
-    run = engine.run
-    assert run is not None
-    state: dict[str, Any] = {"time": run.time, "count": engine.count}
-    for mid, runtime in run.runtimes.items():
-        hal = runtime.hal
-        state[mid] = (inspector.full_state(runtime, run), hal.joint_angle_deg(), hal.joint_turns())
-    if hasattr(run.world, "module_centres"):
-        state["centres"] = {mid: tuple(c) for mid, c in run.world.module_centres().items()}
-    return state
+from tests.debug.engine_session import OBSTACLE, Stops, stopped_in_a_handler
 
 
 @pytest.mark.parametrize(("world", "obstacle"), [("lattice", "wall:0.1"), ("physics", "wall:0.3")])
 def test_back_and_forward_again_are_the_same_states(world: str, obstacle: str) -> None:
-    launch = prepare({"program": str(OBSTACLE), "world": world, "obstacle": obstacle, "duration": 6})
-    code = CodeIndex(launch.program, launch.methods)
-    inspector = Inspector(code)
-    sink = Stops()
-    engine = Engine(launch.program, launch.structure, launch.options, code, sink, names)
-    handler_line = 13
-    engine.set_breakpoints({loc: [Breakpoint(1)] for loc in code.line_locations(handler_line)})
-    try:
-        engine.start(stop_on_entry=False)
-        stop = sink.next()
-        while stop.frame is None or stop.frame.code not in {s.code for s in _handler_slots(engine)}:
-            engine.resume()
-            stop = sink.next()
-        engine.set_breakpoints({})
-        module = stop.module
-        states = [(stop.count, full_state(engine, inspector))]
-        for _ in range(4):
-            engine.resume(step=Step(module, "next", True, None, 0))
-            stop = sink.next()
-            states.append((stop.count, full_state(engine, inspector)))
+    with stopped_in_a_handler({"world": world, "obstacle": obstacle, "duration": 6}) as session:
+        states = [session.first] + [session.step() for _ in range(4)]
         assert len({repr(s) for _, s in states}) == 5
-        for count, state in reversed(states[:-1]):
-            def wanted(kind: str, runtime: Any, frame: Any) -> bool:
-                return kind == "instruction" and runtime.module_id == module
-            engine.go_back(Scan(engine.stop.count, wanted), Goal(0, "step"))  # type: ignore[union-attr]
-            stop = sink.next()
-            assert stop.count == count
-            assert full_state(engine, inspector) == state
-        for count, state in states[1:]:
-            engine.resume(step=Step(module, "next", True, None, 0))
-            stop = sink.next()
-            assert (stop.count, full_state(engine, inspector)) == (count, state)
-    finally:
-        engine.terminate()
-
-
-def _handler_slots(engine: Engine) -> list[Any]:
-    assert engine.run is not None
-    return [v.slot for r in engine.run.runtimes.values() for v in r.store.vectors if v is not None]
+        for count_state in reversed(states[:-1]):
+            assert session.back(Goal(0, "step")) == count_state
+        for count_state in states[1:]:
+            assert session.step() == count_state
 
 
 def test_a_pause_while_stopped_does_nothing_and_one_right_after_continue_is_kept() -> None:
