@@ -17,9 +17,10 @@ action, a neighbour's or from outside.
   (none at its start), so the guards the compiler puts in later fragments let the first holding
   role win. A round that finds the role the module already plays stops that run (nothing to do);
   one that finds another role ends what the module runs for its old role (its behaviours and
-  command runs, its event handlers) and then, after the fragment that took the new role, runs the
-  programs that test a role (the continuation fragments with the rest of the role's entry code); a
-  round in which no role holds leaves the module without a role. The same round runs when a
+  command runs, its event handlers, its joint's motion unless a quarter turn is under way) and
+  then, after the fragment that took the new role, runs the programs that test a role (the
+  continuation fragments with the rest of the role's entry code); a round in which no role holds
+  leaves the module without a role, ended the same way. The same round runs when a
   neighbour announces another role and the discovery fragments read neighbour roles, once no
   program's first run is going on at the module.
 - Coordinates: a module whose connections have all changed at once (it left the part it was
@@ -228,7 +229,9 @@ class ShapeNode(ModuleNode):
         return True
 
     def _leave_role(self, new: int) -> None:
-        """What ran for roles the module no longer plays ends: behaviour and command runs, handlers."""
+        """What ran for roles the module no longer plays ends: behaviour and command runs, handlers,
+        and the joint's motion (as the STOP command ends it). A quarter turn under way is an action
+        that changes the shape, answered by ``action_result``: it finishes and says how it went."""
         keep = {id(s) for s in self.store.commands.get(new, []) if s is not None}
         running = self._running_slot
         self.store.tasks = [t for t in self.store.tasks
@@ -237,6 +240,9 @@ class ShapeNode(ModuleNode):
         for event, vector in enumerate(self.store.vectors):
             if vector is not None and vector.slot.role and not self.roles.is_instance(new, vector.slot.role):
                 self.store.clear_vector(event)
+        if self.hal.is_turning() and self.hal.action_result() is not None:
+            self.hal.stop_joint()  # a wheel that is no wheel any more stops turning
+            self._log("joint_stopped", {"role_left": self.roles.name(self.role)})
 
     def _take_role(self, role: int) -> None:
         """Overridden by the runtime: set the role and tell the neighbours."""

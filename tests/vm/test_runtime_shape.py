@@ -93,3 +93,32 @@ def test_kept_programs_are_bounded_and_quiet() -> None:
         runtime.inject(assemble(f"PUSH {k % 100}\nSET_LED_STACK\nEND_TERMINATE"))
         runtime.step()
     assert len(runtime.kept) == KEPT_PROGRAMS and runtime.errors == []
+
+
+def _role_change(turning: bool, answer: int | None, connected: set[int]) -> ModuleRuntime:
+    """A Wheel (role 1) whose joint is ``turning`` and whose last action answers ``answer``, after
+    its connections became ``connected`` and its roles were checked again."""
+    runtime = module({0})
+    runtime.hal.turning, runtime.hal.answer = turning, answer
+    runtime.hal.calls.clear()
+    runtime.hal.connected = connected
+    for _ in range(4):
+        runtime.step()
+    return runtime
+
+
+def test_a_role_left_in_a_round_stops_the_joint() -> None:
+    runtime = _role_change(True, 1, {0, 4})
+    assert runtime.role == 2
+    assert ("stop_joint", 0) in runtime.hal.calls
+    assert [d for _, kind, d in runtime.event_log if kind == "joint_stopped"] == [{"role_left": "Wheel"}]
+
+
+def test_a_joint_still_or_in_a_quarter_turn_is_left_alone_and_a_role_kept_keeps_it_turning() -> None:
+    still = _role_change(False, 1, {0, 4})  # nothing to stop
+    quarter = _role_change(True, None, {0, 4})  # a quarter turn under way finishes and answers
+    kept_role = _role_change(True, 1, {4})  # one connection still: the round finds Wheel again
+    assert still.role == quarter.role == 2 and kept_role.role == 1 and kept_role.rounds == 1
+    for runtime in (still, quarter, kept_role):
+        assert ("stop_joint", 0) not in runtime.hal.calls
+        assert not any(kind == "joint_stopped" for _, kind, _ in runtime.event_log)
