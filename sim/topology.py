@@ -7,7 +7,9 @@ and velocity of every hemisphere: nothing jumps. Each rigid part's link frame is
 of its hemispheres as it is now; the others sit in it at their lattice offsets and quarter-turn
 orientations (snapped: parts glued together are on the lattice relative to each other, up to the
 few millimetres a closing latch pulls them by). A joint's new zero is its current angle
-(``sim.joint`` keeps the offset, so angles and turn counts go on).
+(``sim.joint`` keeps the offset, so angles and turn counts go on). A body is assembled by
+``sim.robot.assemble_links`` as at the start; only the poses differ (``WorldPoses``: where the
+hemispheres are now).
 
 A split makes several multibodies: the part holding the entry module, and each part cut off (it
 falls or lies where it is, and its modules go on running).
