@@ -30,6 +30,8 @@ from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
 from rdcd_core.compiler.peephole import optimise
 from rdcd_core.compiler.priority import Guard, earlier_overlapping
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
+from rdcd_core.compiler.watched import culprit as watched_culprit
+from rdcd_core.compiler.watched import install_code, split_watched, watched_numbers
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
@@ -192,10 +194,15 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     planner.add("discover_" + "_".join(group), "discovery", group,
                 group_code(ctxs, placed, common, planner.prologue, guard), span, methods,
                 _makeup("discovery", placed))
+    _first_added(planner)
+    _continuations(planner, rest)
+
+
+def _first_added(planner: Planner) -> None:
+    """After the first fragment: the prologue and the travelling value were in it."""
     planner.prologue = []
     planner.budget += len(planner.trailer)  # only the first fragment carries it
     planner.trailer = b""
-    _continuations(planner, rest)
 
 
 Chunk = dict[str, list[EntryItem]]  # role -> its items in one continuation fragment
@@ -241,7 +248,10 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
 
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
-         prologue: list[Item] | None = None, trailer: bytes = b"", spares: Spares | None = None) -> Planner:
+         prologue: list[Item] | None = None, trailer: bytes = b"", spares: Spares | None = None,
+         commands: dict[str, int] | None = None) -> Planner:
+    """``commands``: the command numbers of the program's commands (``entry``), for the spare
+    numbers of split state-dependent discovery (``watched``)."""
     planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer,
                       deployment=list(deployment), spares=spares)
     if any(reads_state(ctx) for ctx in ctxs.values()):
@@ -252,8 +262,27 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         model = roles[0].model
         span = model.roles[deployment[0]].decl.name.span
         methods = [item.method for role in deployment for item in items[role]]
+        code = watched_code(roles, items, planner.prologue)
+        made = None
+        if spares is not None and not planner.fits(code):
+            made = split_watched(planner.fits, ctxs, deployment, items, planner.prologue,
+                                 watched_numbers(commands or {}))
+        if made is None:
+            planner.add("discover_" + "_".join(deployment), "discovery", deployment, code, span, methods)
+            return planner
+        kept, calls, clears, installs = made
+        for index, parts in enumerate(installs):  # on every link before the discovery fragment
+            first = planner.prologue if index == 0 else []
+            part_roles = list(dict.fromkeys(part.role for part in parts))
+            covered = [item for part in parts for item in part.items]
+            planner.add(f"{'_'.join(part_roles)}_entry", "entry", part_roles,
+                        install_code(ctxs, parts, first), covered[0].span.cover(covered[-1].span),
+                        [item.method for item in covered], culprit=watched_culprit(parts))
+            if index == 0:
+                _first_added(planner)
         planner.add("discover_" + "_".join(deployment), "discovery", deployment,
-                    watched_code(roles, items, planner.prologue), span, methods)
+                    watched_code(roles, kept, planner.prologue, calls, clears), span,
+                    [item.method for role in deployment for item in kept[role]])
         return planner
     groups = form_groups(planner, deployment)
     later: set[str] = set()
