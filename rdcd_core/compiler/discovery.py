@@ -196,14 +196,13 @@ def reads_state(ctx: Context) -> bool:
 
 
 def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologue: list[Item],
-                 calls: dict[str, int] | None = None, clears: tuple[int, ...] = ()) -> list[Item]:
+                 calls: dict[str, int] | None = None) -> list[Item]:
     """Discovery when invariants read state: a program of its own on every module (RUN_LOCAL),
     run again whenever a value of the module changes (END_WAIT); it takes the first deployed role
     whose invariants hold, and runs that role's entry items when it takes it.
 
     Split (``watched``): ``calls[role]`` is the command that runs the rest of the role's entry
-    items after those given here; ``clears`` the commands whose runs not yet started are dropped
-    when a module takes a role (they were the rest of an earlier role's entry)."""
+    items after those given here."""
     first = ctxs[0]
     span = first.model.roles[first.role].decl.name.span
     recheck: list[Item] = []
@@ -221,8 +220,6 @@ def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologu
         if not any(o != ctx.role and ctx.model.is_subrole(o, ctx.role) for o in deployed):
             emit(recheck, "HAS_ROLE", role_id, span=role_span)  # kept: nothing to do
             emit(recheck, "IF_TRUE_GOTO", done, span=role_span)
-        for number in clears:
-            emit(recheck, "CLEAR_COMMAND_QUEUE", number, span=role_span)
         emit(recheck, "SET_ROLE_NOTIFY", role_id, span=role_span)
         for item in items.get(ctx.role, []):
             recheck.extend(item.code)
@@ -234,8 +231,6 @@ def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologu
             always = True
             break
     if not always:  # no role holds: the module has none
-        for number in clears:
-            emit(recheck, "CLEAR_COMMAND_QUEUE", number, span=span)
         emit(recheck, "SET_ROLE_NOTIFY", 0, span=span)
     recheck.append(done)
     emit(recheck, "END_WAIT", span=span)

@@ -270,7 +270,7 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         if made is None:
             planner.add("discover_" + "_".join(deployment), "discovery", deployment, code, span, methods)
             return planner
-        kept, calls, clears, installs = made
+        kept, calls, installs = made
         for index, parts in enumerate(installs):  # on every link before the discovery fragment
             first = planner.prologue if index == 0 else []
             part_roles = list(dict.fromkeys(part.role for part in parts))
@@ -281,7 +281,7 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
             if index == 0:
                 _first_added(planner)
         planner.add("discover_" + "_".join(deployment), "discovery", deployment,
-                    watched_code(roles, kept, planner.prologue, calls, clears), span,
+                    watched_code(roles, kept, planner.prologue, calls), span,
                     [item.method for role in deployment for item in kept[role]])
         return planner
     groups = form_groups(planner, deployment)

@@ -4,22 +4,23 @@ When invariants read state, discovery is one program of the module's own (``RUN_
 again whenever a value changes; taking a role runs the role's entry items (role state, command
 installs, startup statements, behaviours started with ``RUN_LOCAL``) inside it
 (``discovery.watched_code``). When that does not fit a fragment, each role keeps in the discovery
-program the leading entry items that fit; the rest become a chain of commands installed for the
-role (spare command numbers, the same numbers for every role: part j of every role is command
-K_j) by fragments injected *before* the discovery fragment, so that on every link they arrive
-first. Taking the role then ends with ``EVAL_COMMAND K_1``; part j runs part j+1.
+program the leading entry items that fit; the rest become a chain of commands installed for
+any role (spare command numbers no command of the program uses, distinct for every part) by
+fragments injected *before* the discovery fragment, so that on every link they arrive first.
+Taking the role then ends with ``EVAL_COMMAND`` of the role's first part; part j runs part j+1.
 
 What is preserved: the items run in their order, once per taking of the role, as before; a
-behaviour is still started with ``RUN_LOCAL`` (one copy per module whatever the number of times
-the role is taken). What differs: the rest runs a few steps later (a command queued by
-``EVAL_COMMAND`` runs on a later step), and a module that takes another role (or none) before the
-rest has run drops it (``CLEAR_COMMAND_QUEUE K_j`` before every ``SET_ROLE_NOTIFY``): the rest of
-the earlier role's entry does not run for a role the module no longer plays, where the unsplit
-program ran it and then, for behaviours, idled on their role check.
+behaviour is still started with ``RUN_LOCAL`` (one copy per module however often the role is
+taken); a module that takes another role before the rest has run still runs it (the parts are
+installed for any role), as the unsplit program ran the whole entry when it took the role. What
+differs: the rest runs a few steps later (a command queued by ``EVAL_COMMAND`` runs on a later
+step), and a module left with no role by then drops it (a module without a role runs no user
+command).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from rdcd_core.compiler.context import Context
@@ -29,6 +30,7 @@ from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import USER_COMMAND_BASE, USER_COMMANDS
+from vm.roles import ANY_ROLE
 
 
 @dataclass(slots=True)
@@ -49,8 +51,9 @@ class Part:
             emit(body, "EVAL_COMMAND", self.following, 0, span=span)
         emit(body, "END_TERMINATE", span=span)
         code: list[Item] = []
-        emit(code, "INSTALL_COMMAND", ctx.table.id_of(self.role) or 0, self.number, Body(body),
-             span=self.items[0].span)
+        # for any role: a module that takes another role before the part runs still runs it,
+        # as the unsplit program ran the whole entry when it took the role
+        emit(code, "INSTALL_COMMAND", ANY_ROLE, self.number, Body(body), span=self.items[0].span)
         return code
 
 
@@ -73,25 +76,28 @@ def install_code(ctxs: dict[str, Context], parts: list[Part], prologue: list[Ite
 
 def split_watched(fits, ctxs: dict[str, Context], deployment: list[str],  # noqa: ANN001
                   items: dict[str, list[EntryItem]], prologue: list[Item], numbers: list[int]):
-    """(items kept per role, calls, clears, fragments of parts) for a discovery program that fits
-    with its parts (each fragment a list of parts, the first with the prologue), or None when it
-    cannot be split (no spare number, or the tests alone do not fit). ``fits(code)`` is the
-    planner's check of a fragment's code."""
+    """(items kept per role, calls, fragments of parts) for a discovery program that fits with
+    its parts (each fragment a list of parts, the first with the prologue), or None when it
+    cannot be split (too few spare numbers, or the tests alone do not fit). ``fits(code)`` is
+    the planner's check of a fragment's code."""
+    if not numbers:
+        return None
     roles = [ctxs[role] for role in deployment]
-    for count in range(1, len(numbers) + 1):  # the numbers every branch must clear
-        clears = tuple(numbers[:count])
-        placed = _place(fits, roles, items, clears)
-        if placed is None:
+    placed = _place(fits, roles, items, numbers[0])
+    if placed is None:
+        return None
+    kept, calls = placed
+    free = iter(numbers)
+    parts: list[Part] = []
+    for role in deployment:
+        if role not in calls:
+            continue
+        chain = _chain(fits, ctxs[role], role, items[role][len(kept[role]):], free)
+        if chain is None:
             return None
-        kept, calls = placed
-        rest = {role: items[role][len(kept[role]):] for role in deployment if role in calls}
-        chains = {role: _chain(fits, ctxs[role], role, rest_items, clears)
-                  for role, rest_items in rest.items()}
-        if any(chain is None for chain in chains.values()):
-            continue  # a role needs more numbers than cleared so far
-        parts = [part for chain in chains.values() for part in chain]  # type: ignore[union-attr]
-        return kept, calls, clears, _pack(fits, ctxs, parts, prologue)
-    return None
+        calls[role] = chain[0].number
+        parts += chain
+    return kept, calls, _pack(fits, ctxs, parts, prologue)
 
 
 def _calls(roles: list[Context], kept: dict[str, list[EntryItem]], items: dict[str, list[EntryItem]],
@@ -100,25 +106,25 @@ def _calls(roles: list[Context], kept: dict[str, list[EntryItem]], items: dict[s
 
 
 def _place(fits, roles: list[Context], items: dict[str, list[EntryItem]],  # noqa: ANN001
-           clears: tuple[int, ...]) -> tuple[dict[str, list[EntryItem]], dict[str, int]] | None:
+           number: int) -> tuple[dict[str, list[EntryItem]], dict[str, int]] | None:
     """The leading items of each role that fit the discovery program, in deployment order; None
-    when not even the tests fit."""
+    when not even the tests fit. (Every call is as large: ``number`` stands for all.)"""
     kept: dict[str, list[EntryItem]] = {ctx.role: [] for ctx in roles}
-    if not fits(watched_code(roles, kept, [], _calls(roles, kept, items, clears[0]), clears)):
+    if not fits(watched_code(roles, kept, [], _calls(roles, kept, items, number))):
         return None
     for ctx in roles:
         for n in range(1, len(items[ctx.role]) + 1):
             trial = {**kept, ctx.role: items[ctx.role][:n]}
-            if not fits(watched_code(roles, trial, [], _calls(roles, trial, items, clears[0]), clears)):
+            if not fits(watched_code(roles, trial, [], _calls(roles, trial, items, number))):
                 break
             kept = trial
-    return kept, _calls(roles, kept, items, clears[0])
+    return kept, _calls(roles, kept, items, number)
 
 
 def _chain(fits, ctx: Context, role: str, rest: list[EntryItem],  # noqa: ANN001
-           numbers: tuple[int, ...]) -> list[Part] | None:
+           free: Iterator[int]) -> list[Part] | None:
     """``rest`` as parts that each fit a fragment alone (an item too large alone is a part of its
-    own, over the budget); None when it needs more than ``numbers``."""
+    own, over the budget), numbered from ``free``; None when the numbers run out."""
     chunks: list[list[EntryItem]] = []
     for item in rest:
         if chunks:
@@ -127,9 +133,10 @@ def _chain(fits, ctx: Context, role: str, rest: list[EntryItem],  # noqa: ANN001
                 chunks[-1].append(item)
                 continue
         chunks.append([item])
-    if len(chunks) > len(numbers):
+    numbers = [next(free, None) for _ in chunks]
+    if None in numbers:
         return None
-    return [Part(role, chunk, numbers[j], numbers[j + 1] if j + 1 < len(chunks) else 0)
+    return [Part(role, chunk, numbers[j], numbers[j + 1] if j + 1 < len(chunks) else 0)  # type: ignore[arg-type]
             for j, chunk in enumerate(chunks)]
 
 
