@@ -270,19 +270,19 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         if made is None:
             planner.add("discover_" + "_".join(deployment), "discovery", deployment, code, span, methods)
             return planner
-        kept, calls, installs = made
-        for index, parts in enumerate(installs):  # on every link before the discovery fragment
+        for index, parts in enumerate(made.fragments):  # on every link before the discovery fragment
             first = planner.prologue if index == 0 else []
             part_roles = list(dict.fromkeys(part.role for part in parts))
-            covered = [item for part in parts for item in part.items]
-            planner.add(f"{'_'.join(part_roles)}_entry", "entry", part_roles,
-                        install_code(ctxs, parts, first), covered[0].span.cover(covered[-1].span),
-                        [item.method for item in covered], culprit=watched_culprit(parts))
+            planner.add(f"{'_'.join(part_roles)}_entry", "entry", part_roles, install_code(parts, first),
+                        parts[0].span.cover(parts[-1].span),
+                        [item.method for part in parts for item in part.items],
+                        culprit=watched_culprit(parts))
             if index == 0:
                 _first_added(planner)
+        tested = [ctxs[role] for role in made.roles]
         planner.add("discover_" + "_".join(deployment), "discovery", deployment,
-                    watched_code(roles, kept, planner.prologue, calls), span,
-                    [item.method for role in deployment for item in kept[role]])
+                    watched_code(tested, made.kept, planner.prologue, made.calls, made.tail), span,
+                    [item.method for role in made.roles for item in made.kept[role]])
         return planner
     groups = form_groups(planner, deployment)
     later: set[str] = set()

@@ -1,21 +1,22 @@
 """Discovery that depends on state, split when it does not fit one fragment (issue 25).
 
 When invariants read state, discovery is one program of the module's own (``RUN_LOCAL``), run
-again whenever a value changes; taking a role runs the role's entry items (role state, command
-installs, startup statements, behaviours started with ``RUN_LOCAL``) inside it
-(``discovery.watched_code``). When that does not fit a fragment, each role keeps in the discovery
-program the leading entry items that fit; the rest become a chain of commands installed for
-any role (spare command numbers no command of the program uses, distinct for every part) by
-fragments injected *before* the discovery fragment, so that on every link they arrive first.
-Taking the role then ends with ``EVAL_COMMAND`` of the role's first part; part j runs part j+1.
+again whenever a value changes (``END_WAIT``); taking a role runs the role's entry items (role
+state, command installs, startup statements, behaviours started with ``RUN_LOCAL``) inside it
+(``discovery.watched_code``). When that does not fit a fragment:
 
-What is preserved: the items run in their order, once per taking of the role, as before; a
-behaviour is still started with ``RUN_LOCAL`` (one copy per module however often the role is
-taken); a module that takes another role before the rest has run still runs it (the parts are
-installed for any role), as the unsplit program ran the whole entry when it took the role. What
-differs: the rest runs a few steps later (a command queued by ``EVAL_COMMAND`` runs on a later
-step), and a module left with no role by then drops it (a module without a role runs no user
-command).
+- the roles are cut into groups in deployment order: the discovery program tests the first
+  group; when none of its roles holds, its run goes on (``CONTINUE_COMMAND``) in a command that
+  tests the next group, and so on; the last group ends as the unsplit program (no role);
+- each role keeps in its group's code the leading entry items that fit; its run goes on in a
+  chain of commands with the rest, the last ending the run (``END_WAIT``).
+
+The commands take spare command numbers (no command of the program uses them; one each) and are
+installed for any role, none included, by fragments injected *before* the discovery fragment, so
+that on every link they arrive first. ``CONTINUE_COMMAND`` goes on in another code in the same
+run, with the same stack and argument: the split program tests the same roles in the same order
+and runs the same entry items in the same run as the unsplit one; a run only counts a few more
+instructions (the continuations).
 """
 
 from __future__ import annotations
@@ -24,10 +25,11 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 from rdcd_core.compiler.context import Context
-from rdcd_core.compiler.discovery import watched_code
+from rdcd_core.compiler.discovery import invariants, recheck_code, watched_code
 from rdcd_core.compiler.entry import EntryItem
 from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item
+from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import USER_COMMAND_BASE, USER_COMMANDS
 from vm.roles import ANY_ROLE
@@ -35,25 +37,37 @@ from vm.roles import ANY_ROLE
 
 @dataclass(slots=True)
 class Part:
-    """Entry items of one role run by command ``number``, then command ``following`` (0: none)."""
+    """Code run by command ``number``, installed for any role: entry items of ``role`` (then
+    command ``following``, 0: none), or ``recheck``, the tests of roles deployed later."""
 
     role: str
     items: list[EntryItem]
     number: int
     following: int = 0
+    recheck: list[Item] | None = None
+    where: Span | None = None  # the source it comes from, when it has no items
 
-    def code(self, ctx: Context) -> list[Item]:
+    @property
+    def span(self) -> Span:
+        if self.items:
+            return self.items[0].span.cover(self.items[-1].span)
+        assert self.where is not None
+        return self.where
+
+    def code(self) -> list[Item]:
         body: list[Item] = []
-        for item in self.items:
-            body.extend(item.code)
-        span = self.items[-1].span
-        if self.following:
-            emit(body, "EVAL_COMMAND", self.following, 0, span=span)
-        emit(body, "END_TERMINATE", span=span)
+        if self.recheck is not None:
+            body = list(self.recheck)
+        else:
+            for item in self.items:
+                body.extend(item.code)
+            if self.following:
+                emit(body, "CONTINUE_COMMAND", self.following, span=self.span)
+            else:  # the end of the discovery program's run
+                emit(body, "END_WAIT", span=self.span)
         code: list[Item] = []
-        # for any role: a module that takes another role before the part runs still runs it,
-        # as the unsplit program ran the whole entry when it took the role
-        emit(code, "INSTALL_COMMAND", ANY_ROLE, self.number, Body(body), span=self.items[0].span)
+        # for any role, none included: the tests of later roles run on a module that has none
+        emit(code, "INSTALL_COMMAND", ANY_ROLE, self.number, Body(body), span=self.span)
         return code
 
 
@@ -64,72 +78,121 @@ def watched_numbers(commands: dict[str, int]) -> list[int]:
     return [USER_COMMAND_BASE + k for k in range(USER_COMMANDS) if k not in used]
 
 
-def install_code(ctxs: dict[str, Context], parts: list[Part], prologue: list[Item]) -> list[Item]:
+def install_code(parts: list[Part], prologue: list[Item]) -> list[Item]:
     """A fragment that installs ``parts`` on every module and migrates."""
     out: list[Item] = list(prologue)
     for part in parts:
-        out.extend(part.code(ctxs[part.role]))
-    span = parts[0].items[0].span
-    emit(out, "MIGRATE_CONTINUE", span=span)
+        out.extend(part.code())
+    emit(out, "MIGRATE_CONTINUE", span=parts[0].span)
     return out
 
 
+@dataclass(slots=True)
+class Split:
+    kept: dict[str, list[EntryItem]]  # the entry items the discovery program runs, per role
+    calls: dict[str, int]  # the command that runs the rest of a role's entry
+    tail: int  # the command that tests the roles after the discovery program's (0: none)
+    roles: list[str]  # the roles the discovery program tests
+    fragments: list[list[Part]]  # install fragments, injected first (the first with the prologue)
+
+
 def split_watched(fits, ctxs: dict[str, Context], deployment: list[str],  # noqa: ANN001
-                  items: dict[str, list[EntryItem]], prologue: list[Item], numbers: list[int]):
-    """(items kept per role, calls, fragments of parts) for a discovery program that fits with
-    its parts (each fragment a list of parts, the first with the prologue), or None when it
-    cannot be split (too few spare numbers, or the tests alone do not fit). ``fits(code)`` is
-    the planner's check of a fragment's code."""
+                  items: dict[str, list[EntryItem]], prologue: list[Item],
+                  numbers: list[int]) -> Split | None:
+    """The discovery program that fits, with its parts; None when it cannot be split (too few
+    spare numbers, or one role's tests alone do not fit). ``fits(code)`` is the planner's check
+    of a fragment's code."""
     if not numbers:
         return None
-    roles = [ctxs[role] for role in deployment]
-    placed = _place(fits, roles, items, numbers[0])
-    if placed is None:
-        return None
-    kept, calls = placed
     free = iter(numbers)
+    roles = [ctxs[role] for role in deployment]
     parts: list[Part] = []
-    for role in deployment:
-        if role not in calls:
-            continue
-        chain = _chain(fits, ctxs[role], role, items[role][len(kept[role]):], free)
-        if chain is None:
+    first: Split | None = None
+    previous = 0  # the number of the group before (its tail)
+    start = 0
+    while start < len(roles):
+        is_first = start == 0
+        end = start + 1
+        while end < len(roles) and invariants(roles[end - 1]) and fits(_group_code(
+                roles[start:end + 1], {}, _calls(roles[start:end + 1], {}, items, numbers[0]),
+                numbers[0] if end + 1 < len(roles) else 0, deployment, is_first, numbers[0])):
+            end += 1
+        group = roles[start:end]
+        more = end < len(roles) and bool(invariants(group[-1]))
+        tail = numbers[0] if more else 0
+        kept = _place(fits, group, items, deployment, is_first, tail, numbers[0])
+        if kept is None:
             return None
-        calls[role] = chain[0].number
-        parts += chain
-    return kept, calls, _pack(fits, ctxs, parts, prologue)
+        tail = next(free, 0) if more else 0
+        if more and not tail:
+            return None
+        calls = _calls(group, kept, items, numbers[0])
+        for ctx in group:
+            if ctx.role in calls:
+                chain = _chain(fits, ctx.role, items[ctx.role][len(kept[ctx.role]):], free)
+                if chain is None:
+                    return None
+                calls[ctx.role] = chain[0].number
+                parts += chain
+        if is_first:
+            first = Split(kept, calls, tail, [ctx.role for ctx in group], [])
+        else:
+            recheck = recheck_code(group, kept, deployment, calls, tail)
+            span = group[0].model.roles[group[0].role].decl.name.span
+            parts.append(Part(group[0].role, [i for ctx in group for i in kept[ctx.role]], previous,
+                              recheck=recheck, where=span))
+        previous = tail
+        start = end if more else len(roles)
+    assert first is not None
+    first.fragments = _pack(fits, parts, prologue)
+    return first
+
+
+def _group_code(group: list[Context], kept: dict[str, list[EntryItem]], calls: dict[str, int], tail: int,
+                deployment: list[str], is_first: bool, number: int) -> list[Item]:
+    """The code of a group's fragment: the discovery program, or the install of a later group's
+    tests (``number`` stands for its command number: every number is one byte)."""
+    if is_first:
+        return watched_code(group, kept, [], calls, tail)
+    recheck = recheck_code(group, kept, deployment, calls, tail)
+    span = group[0].model.roles[group[0].role].decl.name.span
+    return install_code([Part(group[0].role, [], number, recheck=recheck, where=span)], [])
 
 
 def _calls(roles: list[Context], kept: dict[str, list[EntryItem]], items: dict[str, list[EntryItem]],
            first: int) -> dict[str, int]:
-    return {ctx.role: first for ctx in roles if len(kept[ctx.role]) < len(items[ctx.role])}
+    return {ctx.role: first for ctx in roles if len(kept.get(ctx.role, [])) < len(items[ctx.role])}
 
 
-def _place(fits, roles: list[Context], items: dict[str, list[EntryItem]],  # noqa: ANN001
-           number: int) -> tuple[dict[str, list[EntryItem]], dict[str, int]] | None:
-    """The leading items of each role that fit the discovery program, in deployment order; None
-    when not even the tests fit. (Every call is as large: ``number`` stands for all.)"""
-    kept: dict[str, list[EntryItem]] = {ctx.role: [] for ctx in roles}
-    if not fits(watched_code(roles, kept, [], _calls(roles, kept, items, number))):
+def _place(fits, group: list[Context], items: dict[str, list[EntryItem]], deployment: list[str],  # noqa: ANN001
+           is_first: bool, tail: int, number: int) -> dict[str, list[EntryItem]] | None:
+    """The leading items of each role of ``group`` that fit its fragment, in deployment order;
+    None when not even the tests fit. (Every call is as large: ``number`` stands for all.)"""
+    kept: dict[str, list[EntryItem]] = {ctx.role: [] for ctx in group}
+
+    def code(trial: dict[str, list[EntryItem]]) -> list[Item]:
+        calls = _calls(group, trial, items, number)
+        return _group_code(group, trial, calls, tail, deployment, is_first, number)
+
+    if not fits(code(kept)):
         return None
-    for ctx in roles:
+    for ctx in group:
         for n in range(1, len(items[ctx.role]) + 1):
             trial = {**kept, ctx.role: items[ctx.role][:n]}
-            if not fits(watched_code(roles, trial, [], _calls(roles, trial, items, number))):
+            if not fits(code(trial)):
                 break
             kept = trial
-    return kept, _calls(roles, kept, items, number)
+    return kept
 
 
-def _chain(fits, ctx: Context, role: str, rest: list[EntryItem],  # noqa: ANN001
-           free: Iterator[int]) -> list[Part] | None:
+def _chain(fits, role: str, rest: list[EntryItem], free: Iterator[int]) -> list[Part] | None:  # noqa: ANN001
     """``rest`` as parts that each fit a fragment alone (an item too large alone is a part of its
     own, over the budget), numbered from ``free``; None when the numbers run out."""
     chunks: list[list[EntryItem]] = []
     for item in rest:
         if chunks:
             trial = Part(role, chunks[-1] + [item], 0, 1)
-            if fits(install_code({role: ctx}, [trial], [])):
+            if fits(install_code([trial], [])):
                 chunks[-1].append(item)
                 continue
         chunks.append([item])
@@ -140,13 +203,12 @@ def _chain(fits, ctx: Context, role: str, rest: list[EntryItem],  # noqa: ANN001
             for j, chunk in enumerate(chunks)]
 
 
-def _pack(fits, ctxs: dict[str, Context], parts: list[Part],  # noqa: ANN001
-          prologue: list[Item]) -> list[list[Part]]:
+def _pack(fits, parts: list[Part], prologue: list[Item]) -> list[list[Part]]:  # noqa: ANN001
     """First fit of the parts into install fragments; the first carries the prologue."""
     fragments: list[list[Part]] = []
     for part in parts:
         for index, fragment in enumerate(fragments):
-            if fits(install_code(ctxs, fragment + [part], prologue if index == 0 else [])):
+            if fits(install_code(fragment + [part], prologue if index == 0 else [])):
                 fragment.append(part)
                 break
         else:
@@ -156,9 +218,9 @@ def _pack(fits, ctxs: dict[str, Context], parts: list[Part],  # noqa: ANN001
 
 def culprit(parts: list[Part]) -> ast.Stmt | None:
     """The statement to name when a fragment of one part of one item is over the budget."""
-    if len(parts) == 1 and len(parts[0].items) == 1:
+    if len(parts) == 1 and len(parts[0].items) == 1 and parts[0].recheck is None:
         return parts[0].items[0].stmt
     return None
 
 
-__all__ = ["Part", "culprit", "install_code", "split_watched", "watched_numbers"]
+__all__ = ["Part", "Split", "culprit", "install_code", "split_watched", "watched_numbers"]
