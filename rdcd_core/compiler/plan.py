@@ -25,6 +25,7 @@ from rdcd_core.compiler.discovery import (
 )
 from rdcd_core.compiler.early import Traffic, traffic_of
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
+from rdcd_core.compiler.handlers import HandlerSplitter
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
 from rdcd_core.compiler.peephole import optimise
@@ -291,9 +292,19 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         for role in group:
             checks[role] = bool(later)
         later.update(group)
+    splitter = None
+    if spares is not None and all(ctx.has("CONTINUE_COMMAND") for ctx in ctxs.values()):
+        splitter = HandlerSplitter(planner.fits, planner.size, planner.budget, spares)
     for group in groups:
-        items = {role: split_items(planner, ctxs[role], entry_items(ctxs[role], checks[role]))
-                 for role in group}
+        items = {}
+        for role in group:
+            ctxs[role].split_handler = splitter
+            try:
+                made = split_items(planner, ctxs[role], entry_items(ctxs[role], checks[role]))
+            finally:
+                ctxs[role].split_handler = None
+            # the handlers' commands first: a module has them before it can install a handler
+            items[role] = (splitter.pending.pop(role, []) if splitter else []) + made
         plan_group(planner, group, items)
     return planner
 
