@@ -199,6 +199,22 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     _continuations(planner, rest)
 
 
+def _stored_parts(planner: Planner, roles: list[Context], parts: int, span: Span) -> None:
+    """W602 when the commands of split state-dependent discovery, which every module stores (it may
+    take any role later), with the discovery program and the behaviours it may start, pass the
+    target's program slots."""
+    behaviours = {id(m.decl) for ctx in roles for m in ctx.model.roles[ctx.role].methods.values()
+                  if m.kind is ast.MethodKind.BEHAVIOR and m.decl.body is not None}
+    stored, slots = parts + 1 + len(behaviours), roles[0].target.program_slots
+    if stored > slots:
+        planner.diagnostics.append(diag.make(
+            codes.TOO_MANY_PROGRAMS, span,
+            f"the state-dependent discovery is split into {parts} commands, which every module stores; "
+            f"with the discovery program and {len(behaviours)} behaviours a module may store {stored} "
+            f"programs, and the DCD-VM has {slots} slots (a program that does not find one is a "
+            "runtime error): fewer roles or smaller entry code"))
+
+
 def _first_added(planner: Planner) -> None:
     """After the first fragment: the prologue and the travelling value were in it."""
     planner.prologue = []
@@ -284,6 +300,7 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         planner.add("discover_" + "_".join(deployment), "discovery", deployment,
                     watched_code(tested, made.kept, planner.prologue, made.calls, made.tail), span,
                     [item.method for role in made.roles for item in made.kept[role]])
+        _stored_parts(planner, roles, sum(len(parts) for parts in made.fragments), span)
         return planner
     groups = form_groups(planner, deployment)
     later: set[str] = set()

@@ -11,24 +11,25 @@ state, command installs, startup statements, behaviours started with ``RUN_LOCAL
 - each role keeps in its group's code the leading entry items that fit; its run goes on in a
   chain of commands with the rest, the last ending the run (``END_WAIT``).
 
-The commands take spare command numbers (no command of the program uses them; one each) and are
-installed for any role, none included, by fragments injected *before* the discovery fragment, so
-that on every link they arrive first. ``CONTINUE_COMMAND`` goes on in another code in the same
-run, with the same stack and argument: the split program tests the same roles in the same order
+The commands take spare command numbers (no command of the program uses them) and are installed
+by fragments injected *before* the discovery fragment, so that on every link they arrive first:
+the tests of later roles for any role, none included (each its own number), the rest of a role's
+entry for that role (unrelated roles may share a number). ``CONTINUE_COMMAND`` goes on in
+another code in the same run, with the same argument: the split program tests the same roles in the same order
 and runs the same entry items in the same run as the unsplit one; a run only counts a few more
 instructions (the continuations).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.discovery import invariants, recheck_code, watched_code
 from rdcd_core.compiler.entry import EntryItem
 from rdcd_core.compiler.exprgen import emit
 from rdcd_core.compiler.ir import Body, Item
+from rdcd_core.semantics.model import Model
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import USER_COMMAND_BASE, USER_COMMANDS
@@ -46,6 +47,7 @@ class Part:
     following: int = 0
     recheck: list[Item] | None = None
     where: Span | None = None  # the source it comes from, when it has no items
+    install: int = ANY_ROLE  # the role id it is installed for
 
     @property
     def span(self) -> Span:
@@ -66,8 +68,9 @@ class Part:
             else:  # the end of the discovery program's run
                 emit(body, "END_WAIT", span=self.span)
         code: list[Item] = []
-        # for any role, none included: the tests of later roles run on a module that has none
-        emit(code, "INSTALL_COMMAND", ANY_ROLE, self.number, Body(body), span=self.span)
+        # the tests of later roles for any role, none included (they run on a module that has
+        # none); the rest of a role's entry for the role (it runs once the module has taken it)
+        emit(code, "INSTALL_COMMAND", self.install, self.number, Body(body), span=self.span)
         return code
 
 
@@ -104,7 +107,7 @@ def split_watched(fits, ctxs: dict[str, Context], deployment: list[str],  # noqa
     of a fragment's code."""
     if not numbers:
         return None
-    free = iter(numbers)
+    free = _Numbers(numbers, ctxs[deployment[0]].model)
     roles = [ctxs[role] for role in deployment]
     parts: list[Part] = []
     first: Split | None = None
@@ -123,13 +126,13 @@ def split_watched(fits, ctxs: dict[str, Context], deployment: list[str],  # noqa
         kept = _place(fits, group, items, deployment, is_first, tail, numbers[0])
         if kept is None:
             return None
-        tail = next(free, 0) if more else 0
+        tail = free.take(None) if more else 0
         if more and not tail:
             return None
         calls = _calls(group, kept, items, numbers[0])
         for ctx in group:
             if ctx.role in calls:
-                chain = _chain(fits, ctx.role, items[ctx.role][len(kept[ctx.role]):], free)
+                chain = _chain(fits, ctx, items[ctx.role][len(kept[ctx.role]):], free)
                 if chain is None:
                     return None
                 calls[ctx.role] = chain[0].number
@@ -185,21 +188,46 @@ def _place(fits, group: list[Context], items: dict[str, list[EntryItem]], deploy
     return kept
 
 
-def _chain(fits, role: str, rest: list[EntryItem], free: Iterator[int]) -> list[Part] | None:  # noqa: ANN001
+@dataclass(slots=True)
+class _Numbers:
+    """Spare command numbers: one installed for any role is used by no other part; one for a role
+    by no part of a related role (an install for a role fills its sub-roles' tables too)."""
+
+    free: list[int]
+    model: Model
+    anywhere: set[int] = field(default_factory=set)
+    by_role: dict[str, set[int]] = field(default_factory=dict)
+
+    def take(self, role: str | None) -> int:
+        """A number (0: none left) for the tests of later roles (``role`` None) or a role's part."""
+        if role is None:
+            used = self.anywhere.union(*self.by_role.values())
+        else:
+            related = [r for r in self.by_role
+                       if r == role or self.model.is_subrole(r, role) or self.model.is_subrole(role, r)]
+            used = self.anywhere.union(*(self.by_role[r] for r in related))
+        number = next((n for n in self.free if n not in used), 0)
+        if number:
+            (self.anywhere if role is None else self.by_role.setdefault(role, set())).add(number)
+        return number
+
+
+def _chain(fits, ctx: Context, rest: list[EntryItem], free: _Numbers) -> list[Part] | None:  # noqa: ANN001
     """``rest`` as parts that each fit a fragment alone (an item too large alone is a part of its
-    own, over the budget), numbered from ``free``; None when the numbers run out."""
+    own, over the budget), installed for the role; None when the numbers run out."""
+    role, role_id = ctx.role, ctx.table.id_of(ctx.role) or 0
     chunks: list[list[EntryItem]] = []
     for item in rest:
         if chunks:
-            trial = Part(role, chunks[-1] + [item], 0, 1)
+            trial = Part(role, chunks[-1] + [item], 0, 1, install=role_id)
             if fits(install_code([trial], [])):
                 chunks[-1].append(item)
                 continue
         chunks.append([item])
-    numbers = [next(free, None) for _ in chunks]
-    if None in numbers:
+    numbers = [free.take(role) for _ in chunks]
+    if 0 in numbers:
         return None
-    return [Part(role, chunk, numbers[j], numbers[j + 1] if j + 1 < len(chunks) else 0)  # type: ignore[arg-type]
+    return [Part(role, chunk, numbers[j], numbers[j + 1] if j + 1 < len(chunks) else 0, install=role_id)
             for j, chunk in enumerate(chunks)]
 
 
