@@ -13,7 +13,16 @@ from rdcd_core.frontend import check_text
 from tests.compiler.split_run import both, same_outcome
 from tests.replay.test_browser_state import ROLE_STATE
 
-LEDS = "self.setLed({n}); self.sleep();"
+# as in benchmarks/fragment_fit.py
+THREE = ("state step := 0;\nrole Mover { step == 3; self.center_position == EAST_WEST;\n"
+         "  startup go() { self.setLed(3); self.turnTowards(90); }\n"
+         "  behavior b() { self.sleep(); step := step + 1; } }\n"
+         "role Waiter { step < 3;\n  behavior w() { self.sleep(); self.setLed(step); step := step + 1; } }\n"
+         "role Done { step > 3; startup s() { self.setLed(0); self.turnTowards(0); } }\n"
+         "deployment { Mover, Waiter, Done }\n")
+SIX = ("state step := 0;\n" + "".join(
+    f"role R{k} {{ step == {k};\n  behavior b() {{ self.sleep(); self.setLed({k}); step := step + 1; }} }}\n"
+    for k in range(6)) + "deployment { " + ", ".join(f"R{k}" for k in range(6)) + " }\n")
 
 
 def program(visits: int = 3, limit: int = 9, leds: int = 0, extra: int = 0) -> str:
@@ -113,3 +122,28 @@ def test_programs_whose_discovery_fits_keep_their_bytes():
         compiled = check_text((EXAMPLES / f"{name}.rdcd").read_text(encoding="utf-8")).compiled
         sizes[name] = [f.size for f in compiled.fragments]
     assert sizes == {"gradient": [34], "lowest": [41], "count": [22], "hops": [20]}
+
+
+def test_roles_on_step_invariants_fit_and_follow_the_step():
+    """`role R { step == 3; }`-style invariants (as reconfiguration sequences make): three roles
+    whose tests do not fit one fragment go on in a command that tests the later roles."""
+    from tests.compiler.split_run import outcome, run
+
+    text = THREE
+    result = check_text(text)
+    assert not over(result) and all(f.size <= 43 for f in result.compiled.fragments)
+    world = run(result.compiled, seconds=15.0, loss=0.1, seed=2)
+    found = outcome(result.compiled, world)
+    for mid, (role, states, *_rest, errors) in found.items():
+        history = [world.runtimes[mid].roles.name(r) for _, r in world.runtimes[mid].role_history]
+        assert not errors
+        if history[-1] == "Done":  # an east-west module: Waiter until step 3, Mover, then Done
+            assert history == ["Waiter", "Mover", "Done"] and dict(states)["step"] == 4
+        else:  # north-south: Waiter until step 3, then no role holds
+            assert history == ["Waiter", "none"] and role is None and dict(states)["step"] == 3
+
+
+def test_too_many_stored_commands_are_a_warning():
+    result = check_text(SIX)
+    assert [d.code for d in result.diagnostics] == ["W602"]
+    assert "which every module stores" in result.diagnostics[0].message
