@@ -1,10 +1,12 @@
 """Fragments that fit: per program, fragments, largest, fragments over the packet budget, before and
-after splitting large commands and behaviours into chains (rdcd_core/compiler/chain.py).
+after splitting (commands and behaviours: rdcd_core/compiler/chain.py; handlers: handlers.py;
+state-dependent discovery: watched.py).
 
 Corpus: every example, every RDCD program of the docs (``rdcd`` code blocks of docs/*.md that
 check without errors: the diagnostics page's examples included), the tutorial's steps, and the
-programs of issue 25 (``ISSUE``). "Before" compiles with no spare command numbers, which is the
-planner as it was (a command or behaviour is one program, never split).
+programs of issue 25 (``ISSUE``), with programs of state-dependent roles, a large handler and a
+large reactive behaviour (``STATE_ROLES``). "Before" compiles with no spare command numbers,
+which is the planner before splitting (nothing is split but startup statements).
 
     python benchmarks/fragment_fit.py [--target default|original] [--all]
 
@@ -50,6 +52,38 @@ ISSUE = {
         "command go(speed) { told := told + 1; self.setLed(told); self.turnContinuously(speed); "
         "self.sleep(); self.setLed(0); self.turnContinuously(-speed); self.sleep(); self.stopTurning(); }")),
 }
+ROLE_STATE = ("state lowest := 127;\nabstract role Node {\n  behavior spread() {\n"
+              "    lowest := min(min(neighbours.lowest), self.z());\n  }\n}\n"
+              "role Bottom extends Node {\n  state visits := 3;\n  self.z() == lowest;\n"
+              "  behavior count() { if (visits < 9) visits := visits + 1; }\n}\n"
+              "role Upper extends Node { }\ndeployment { Bottom, Upper }\n")
+STATE_ROLES = {
+    "state: the replay's lowest/visits": ROLE_STATE,
+    "state: three roles on `step == 3`-style invariants": (
+        "state step := 0;\nrole Mover { step == 3; self.center_position == EAST_WEST;\n"
+        "  startup go() { self.setLed(3); self.turnTowards(90); }\n"
+        "  behavior b() { self.sleep(); step := step + 1; } }\n"
+        "role Waiter { step < 3;\n  behavior w() { self.sleep(); self.setLed(step); step := step + 1; } }\n"
+        "role Done { step > 3; startup s() { self.setLed(0); self.turnTowards(0); } }\n"
+        "deployment { Mover, Waiter, Done }\n"),
+    "state: six roles, one per value of `step`": (
+        "state step := 0;\n" + "".join(
+            f"role R{k} {{ step == {k};\n"
+            f"  behavior b() {{ self.sleep(); self.setLed({k}); step := step + 1; }} }}\n"
+            for k in range(6)) + "deployment { " + ", ".join(f"R{k}" for k in range(6)) + " }\n"),
+    "handler of 14 statements": (
+        "state hits := 0;\nrole Wheel { self.center_position == EAST_WEST;\n"
+        "  startup s() { self.handleEvent(EVENT_PROXIMITY_0, { self.disableEvent(EVENT_PROXIMITY_0); "
+        "hits := hits + 1; self.setLed(1); self.turnTowards(30); self.sleep(); self.setLed(2); "
+        "self.turnTowards(-30); self.sleep(); self.setLed(3); self.turnTowards(0); self.sleep(); "
+        "self.setLed(hits + 4); self.turnTowards(60); self.sleep(); }); }\n}\ndeployment { Wheel }\n"),
+    "reactive behaviour of 8 assignments": (
+        "".join(f"state {n} := 0;\n" for n in "abcd") + "role W { self.center_position == EAST_WEST;\n"
+        "  behavior spread() { a := max(max(neighbours.a), self.x()); b := a + self.y(); c := b + a; "
+        "d := c + b; a := min(a, 20); b := min(b, 30); c := min(c, 40); d := min(d, 50); } }\n"
+        "deployment { W }\n"),
+}
+ISSUE.update(STATE_ROLES)
 BLOCK = re.compile(r"```rdcd\n(.*?)```", re.S)
 
 

@@ -25,11 +25,13 @@ class RoleTable:
         return of in self.instance_of.get(role, frozenset())
 
     def roles_instance_of(self, of: int) -> list[int]:
-        """Every known role id that is an instance of ``of`` (used by INSTALL_COMMAND)."""
+        """Every known role id that is an instance of ``of`` (used by INSTALL_COMMAND); for "any",
+        "no role" too: a command installed for any role runs on a module that has none."""
         known = set(self.names) | set(self.instance_of)
         if of not in (NO_ROLE, ANY_ROLE):
             known.add(of)
-        return sorted(r for r in known if r not in (NO_ROLE, ANY_ROLE) and self.is_instance(r, of))
+        found = sorted(r for r in known if r not in (NO_ROLE, ANY_ROLE) and self.is_instance(r, of))
+        return [NO_ROLE, *found] if of == ANY_ROLE else found
 
     def name(self, role: int) -> str:
         if role == NO_ROLE:

@@ -441,6 +441,13 @@ class ModuleRuntime(ShapeNode):
             return len(values)
         return saturated(sum(values))
 
+    def command_code(self, command: int) -> bytes | None:
+        """The code of user command ``command`` for the module's role (CONTINUE_COMMAND)."""
+        if command not in USER_COMMAND_NUMBERS:
+            return None
+        slot = self.store.command_slot(self.role, command - USER_COMMAND_BASE)
+        return slot.code if slot is not None else None
+
     def run_local(self, code: bytes) -> None:
         if any(s.kind == LOCAL and s.code == code for s in self.store.slots):
             return

@@ -72,7 +72,7 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     travelling = next((s for s in model.states.values() if s.travelling), None)
     trailer = bytes((DATA_OPCODE, travelling.initial & 0xFF)) if travelling is not None else b""
     planner = plan(ctxs, model.deployment, min(packet_budget - HEADER_BYTES, chosen.slot_bytes), prologue,
-                   trailer, spare_numbers(model, commands))
+                   trailer, spare_numbers(model, commands), commands)
     for ctx in ctxs.values():
         found.extend(ctx.diagnostics)
     found.extend(planner.diagnostics)

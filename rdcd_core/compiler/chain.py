@@ -2,18 +2,22 @@
 
 A body's top-level statements are cut into parts, each installed by its own entry item: the
 first part keeps the method's command number, every further part gets a spare number of the
-role's command table. A part ends by running the next one (``EVAL_COMMAND next``, with the
-command's argument from the stack when the rest reads it); the last part of a behaviour runs the
-first again, so the chain repeats as ``END_REPEAT`` would. The parts are injected last part
-first: on every link program packets keep their order, so when the first part (the one that is
-started) arrives the others are there. A command that arrives before its part does is held by the
-VM until the part is installed (docs/vm.md).
+role's command table. The parts are injected last part first: on every link program packets keep
+their order, so when the first part (the one that is started) arrives the others are there. A
+command that arrives before its part does is held by the VM until the part is installed
+(docs/vm.md).
 
-A part holds whole statements, so the chain runs the statements in their order with the same
-values; between two parts other tasks of the module may run (a part is a run of its own), as
-between two runs of a behaviour. What is not split: a statement alone too large for a fragment
-(W601 names it), a reactive behaviour (``END_WAIT``), code re-checked as values change
-(``watched``), and a part that needs the argument on a target without ``EVAL_COMMAND_STACK_ARG``.
+On the default target a part ends by going on in the next one in the same run
+(``CONTINUE_COMMAND``, the argument kept), and the last part ends the run as the body did
+(``END_TERMINATE``, ``END_REPEAT``, ``END_WAIT``: a behaviour runs again from its first part): the
+chain is the unsplit body, run for run; handlers (``handlers``) and state-dependent discovery
+(``watched``) go on the same way. On a target without it (``original``) a part runs the next one
+as a run of its own (``EVAL_COMMAND next``, with the argument from the stack when the rest reads
+it), and the last part of a behaviour runs the first again; between two parts other tasks may
+run, as between two runs of a behaviour. What is not split: a statement alone too large for a
+fragment (W601 names it), code re-checked as values change (``watched``: its entry items are
+split there), there a reactive behaviour (``END_WAIT``), and a part that needs the argument on a
+target without ``EVAL_COMMAND_STACK_ARG``.
 """
 
 from __future__ import annotations
@@ -79,8 +83,8 @@ def split_method(item: EntryItem, ctx: Context, spares: Spares,
     if method is None or item.kind not in ("command", "behavior") or ctx.watched:
         return Culprit(None)
     stmts = _flat(list(method.decl.body.statements))
-    if item.kind == "behavior" and item.reactive:
-        return Culprit(None)
+    if item.kind == "behavior" and item.reactive and not ctx.has("CONTINUE_COMMAND"):
+        return Culprit(None)  # END_WAIT re-runs the part that ends the run: only a continuation keeps it
     if len(stmts) < 2:
         return Culprit(stmts[0] if stmts else None)
     params = method.decl.params
@@ -179,18 +183,25 @@ def _part_item(item: EntryItem, ctx: Context, part: list[ast.Stmt], first: bool,
         statements(part, ctx, body)
         span = part[-1].span
         rest_reads = rest_reads and more
-        if item.kind == "behavior" or more:
-            if rest_reads:
-                if not ctx.has("EVAL_COMMAND_STACK_ARG"):
-                    return None
-                emit(body, "PUSH_ARGUMENT", 0, span=span)
-                emit(body, "EVAL_COMMAND_STACK_ARG", following, span=span)
-            else:
-                emit(body, "EVAL_COMMAND", following, 0, span=span)
-        emit(body, "END_TERMINATE", span=span)
+        repeat = "END_WAIT" if item.reactive else "END_REPEAT"
+        if ctx.has("CONTINUE_COMMAND"):  # the same run goes on in the next part, its argument kept
+            if more:
+                emit(body, "CONTINUE_COMMAND", following, span=span)
+            else:  # the end of the run: a behaviour runs again from its first part
+                emit(body, repeat if item.kind == "behavior" else "END_TERMINATE", span=span)
+        else:
+            if item.kind == "behavior" or more:
+                if rest_reads:
+                    if not ctx.has("EVAL_COMMAND_STACK_ARG"):
+                        return None
+                    emit(body, "PUSH_ARGUMENT", 0, span=span)
+                    emit(body, "EVAL_COMMAND_STACK_ARG", following, span=span)
+                else:
+                    emit(body, "EVAL_COMMAND", following, 0, span=span)
+            emit(body, "END_TERMINATE", span=span)
         if first and item.check:
             body.append(end)
-            emit(body, "END_REPEAT", span=method.decl.span)
+            emit(body, repeat, span=method.decl.span)
     finally:
         ctx.argument, ctx.in_body = saved
         if item.mixin:

@@ -20,7 +20,7 @@ def _leds(count: int) -> str:
 FRAGMENT_TOO_LARGE = define_code(
     "E601", _E, "a compiled fragment exceeds 64 program bytes",
     "role A { self.x() > 0;\n"
-    f"  startup s() {{ self.handleEvent(EVENT_PROXIMITY_1, {{ {_leds(30)} }}); }} }}\ndeployment {{ A }}")
+    f"  startup s() {{ if (connected_role(UP, A) > 0) {{ {_leds(30)} }} }} }}\ndeployment {{ A }}")
 # E602 (more than 14 role identifiers) is retired: the checker's E120 counts the same identifiers
 # and reported every such program first (docs/diagnostics.md, "Retired codes").
 TOO_MANY_COMMANDS = define_code(

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes
+from rdcd_core.compiler.ir import Body
 from rdcd_core.compiler.roletable import RoleTable, application_name
 from rdcd_core.semantics.model import MethodSymbol, Model, StateSymbol, Value
 from rdcd_core.source import Span
+from rdcd_core.syntax import ast
 from rdcd_core.types import PREDEFINED_VALUES, Type
 from vm.isa.targets import DEFAULT, Target
 
@@ -40,6 +43,9 @@ class Context:
     bindings: dict[str, tuple[object, dict]] = field(default_factory=dict)
     watched: bool = False
     in_body: bool = False  # code of a stored body (handler, command, behaviour): it never migrates
+    # the planner's splitter of handlers too large for a fragment (compiler.handlers): called with
+    # the handler's block and body, gives the body to install; None: handlers stay whole
+    split_handler: Callable[[ast.Block, Body, Context], Body] | None = None
 
     def state(self, name: str) -> StateSymbol | None:
         """The state ``name`` reads in this code (role state of the role, else module state)."""

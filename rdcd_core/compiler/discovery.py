@@ -195,15 +195,34 @@ def reads_state(ctx: Context) -> bool:
     return False
 
 
-def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologue: list[Item]) -> list[Item]:
+def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologue: list[Item],
+                 calls: dict[str, int] | None = None, tail: int = 0) -> list[Item]:
     """Discovery when invariants read state: a program of its own on every module (RUN_LOCAL),
     run again whenever a value of the module changes (END_WAIT); it takes the first deployed role
-    whose invariants hold, and runs that role's entry items when it takes it."""
+    whose invariants hold, and runs that role's entry items when it takes it.
+
+    Split (``watched``): ``calls[role]`` is the command that runs the rest of the role's entry
+    items after those given here; ``tail`` the command that tests the roles deployed after
+    ``ctxs`` (``recheck_code``)."""
+    first = ctxs[0]
+    span = first.model.roles[first.role].decl.name.span
+    recheck = recheck_code(ctxs, items, [ctx.role for ctx in ctxs], calls, tail)
+    out: list[Item] = list(prologue)
+    first.need("RUN_LOCAL", span, "roles that depend on state need the extension instruction")
+    emit(out, "RUN_LOCAL", Body(recheck), span=span)
+    emit(out, "MIGRATE_CONTINUE", span=span)
+    return out
+
+
+def recheck_code(ctxs: list[Context], items: dict[str, list[EntryItem]], deployed: list[str],
+                 calls: dict[str, int] | None = None, tail: int = 0) -> list[Item]:
+    """The tests of the roles of ``ctxs`` in their order, taking the first that holds (``deployed``:
+    every deployed role). When none holds: the module has no role, or (``tail``) the run goes on
+    in command ``tail``, which tests the roles deployed after them (``CONTINUE_COMMAND``)."""
     first = ctxs[0]
     span = first.model.roles[first.role].decl.name.span
     recheck: list[Item] = []
     done = Label("done")
-    deployed = [ctx.role for ctx in ctxs]
     always = False
     for ctx in ctxs:
         following = Label("next")
@@ -219,20 +238,21 @@ def watched_code(ctxs: list[Context], items: dict[str, list[EntryItem]], prologu
         emit(recheck, "SET_ROLE_NOTIFY", role_id, span=role_span)
         for item in items.get(ctx.role, []):
             recheck.extend(item.code)
-        emit(recheck, "GOTO", done, span=role_span)
+        if calls and ctx.role in calls:  # the rest of the entry, in this run
+            emit(recheck, "CONTINUE_COMMAND", calls[ctx.role], span=role_span)
+        else:
+            emit(recheck, "GOTO", done, span=role_span)
         recheck.append(following)
         if not exprs:
             always = True
             break
-    if not always:  # no role holds: the module has none
+    if not always and tail:  # none of these holds: the roles after them, in this run
+        emit(recheck, "CONTINUE_COMMAND", tail, span=span)
+    elif not always:  # no role holds: the module has none
         emit(recheck, "SET_ROLE_NOTIFY", 0, span=span)
     recheck.append(done)
     emit(recheck, "END_WAIT", span=span)
-    out: list[Item] = list(prologue)
-    first.need("RUN_LOCAL", span, "roles that depend on state need the extension instruction")
-    emit(out, "RUN_LOCAL", Body(recheck), span=span)
-    emit(out, "MIGRATE_CONTINUE", span=span)
-    return out
+    return recheck
 
 
 def observes_roles(ctx: Context) -> bool:

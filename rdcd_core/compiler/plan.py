@@ -25,11 +25,14 @@ from rdcd_core.compiler.discovery import (
 )
 from rdcd_core.compiler.early import Traffic, traffic_of
 from rdcd_core.compiler.entry import EntryItem, entry_items, split_statement, startup_items
+from rdcd_core.compiler.handlers import HandlerSplitter
 from rdcd_core.compiler.ir import Item
 from rdcd_core.compiler.layout import assemble, laid_out_size, size_bound
 from rdcd_core.compiler.peephole import optimise
 from rdcd_core.compiler.priority import Guard, earlier_overlapping
 from rdcd_core.compiler.program import MAX_PROGRAM_BYTES, Fragment
+from rdcd_core.compiler.watched import culprit as watched_culprit
+from rdcd_core.compiler.watched import install_code, split_watched, watched_numbers
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
@@ -192,10 +195,31 @@ def plan_group(planner: Planner, group: list[str], items: dict[str, list[EntryIt
     planner.add("discover_" + "_".join(group), "discovery", group,
                 group_code(ctxs, placed, common, planner.prologue, guard), span, methods,
                 _makeup("discovery", placed))
+    _first_added(planner)
+    _continuations(planner, rest)
+
+
+def _stored_parts(planner: Planner, roles: list[Context], parts: int, span: Span) -> None:
+    """W602 when the commands of split state-dependent discovery, which every module stores (it may
+    take any role later), with the discovery program and the behaviours it may start, pass the
+    target's program slots."""
+    behaviours = {id(m.decl) for ctx in roles for m in ctx.model.roles[ctx.role].methods.values()
+                  if m.kind is ast.MethodKind.BEHAVIOR and m.decl.body is not None}
+    stored, slots = parts + 1 + len(behaviours), roles[0].target.program_slots
+    if stored > slots:
+        planner.diagnostics.append(diag.make(
+            codes.TOO_MANY_PROGRAMS, span,
+            f"the state-dependent discovery is split into {parts} commands, which every module stores; "
+            f"with the discovery program and {len(behaviours)} behaviours a module may store {stored} "
+            f"programs, and the DCD-VM has {slots} slots (a program that does not find one is a "
+            "runtime error): fewer roles or smaller entry code"))
+
+
+def _first_added(planner: Planner) -> None:
+    """After the first fragment: the prologue and the travelling value were in it."""
     planner.prologue = []
     planner.budget += len(planner.trailer)  # only the first fragment carries it
     planner.trailer = b""
-    _continuations(planner, rest)
 
 
 Chunk = dict[str, list[EntryItem]]  # role -> its items in one continuation fragment
@@ -241,7 +265,10 @@ def _continuations(planner: Planner, rest: dict[str, list[EntryItem]]) -> None:
 
 
 def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
-         prologue: list[Item] | None = None, trailer: bytes = b"", spares: Spares | None = None) -> Planner:
+         prologue: list[Item] | None = None, trailer: bytes = b"", spares: Spares | None = None,
+         commands: dict[str, int] | None = None) -> Planner:
+    """``commands``: the command numbers of the program's commands (``entry``), for the spare
+    numbers of split state-dependent discovery (``watched``)."""
     planner = Planner(ctxs, budget - len(trailer), prologue=list(prologue or []), trailer=trailer,
                       deployment=list(deployment), spares=spares)
     if any(reads_state(ctx) for ctx in ctxs.values()):
@@ -252,8 +279,28 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         model = roles[0].model
         span = model.roles[deployment[0]].decl.name.span
         methods = [item.method for role in deployment for item in items[role]]
+        code = watched_code(roles, items, planner.prologue)
+        made = None
+        if spares is not None and not planner.fits(code):
+            made = split_watched(planner.fits, ctxs, deployment, items, planner.prologue,
+                                 watched_numbers(commands or {}))
+        if made is None:
+            planner.add("discover_" + "_".join(deployment), "discovery", deployment, code, span, methods)
+            return planner
+        for index, parts in enumerate(made.fragments):  # on every link before the discovery fragment
+            first = planner.prologue if index == 0 else []
+            part_roles = list(dict.fromkeys(part.role for part in parts))
+            planner.add(f"{'_'.join(part_roles)}_entry", "entry", part_roles, install_code(parts, first),
+                        parts[0].span.cover(parts[-1].span),
+                        [item.method for part in parts for item in part.items],
+                        culprit=watched_culprit(parts))
+            if index == 0:
+                _first_added(planner)
+        tested = [ctxs[role] for role in made.roles]
         planner.add("discover_" + "_".join(deployment), "discovery", deployment,
-                    watched_code(roles, items, planner.prologue), span, methods)
+                    watched_code(tested, made.kept, planner.prologue, made.calls, made.tail), span,
+                    [item.method for role in made.roles for item in made.kept[role]])
+        _stored_parts(planner, roles, sum(len(parts) for parts in made.fragments), span)
         return planner
     groups = form_groups(planner, deployment)
     later: set[str] = set()
@@ -262,9 +309,19 @@ def plan(ctxs: dict[str, Context], deployment: list[str], budget: int,
         for role in group:
             checks[role] = bool(later)
         later.update(group)
+    splitter = None
+    if spares is not None and all(ctx.has("CONTINUE_COMMAND") for ctx in ctxs.values()):
+        splitter = HandlerSplitter(planner.fits, planner.size, planner.budget, spares)
     for group in groups:
-        items = {role: split_items(planner, ctxs[role], entry_items(ctxs[role], checks[role]))
-                 for role in group}
+        items = {}
+        for role in group:
+            ctxs[role].split_handler = splitter
+            try:
+                made = split_items(planner, ctxs[role], entry_items(ctxs[role], checks[role]))
+            finally:
+                ctxs[role].split_handler = None
+            # the handlers' commands first: a module has them before it can install a handler
+            items[role] = (splitter.pending.pop(role, []) if splitter else []) + made
         plan_group(planner, group, items)
     return planner
 

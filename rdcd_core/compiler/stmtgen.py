@@ -286,6 +286,8 @@ def _handle_event(args: tuple, ctx: Context, out: list[Item], span: object) -> N
         return
     saved, ctx.mixins = ctx.mixins, list(ctx.mixins)
     body = body_of(args[1], ctx, "END_TERMINATE")
+    if ctx.split_handler is not None and isinstance(args[1], ast.Block):  # too large: split (handlers)
+        body = ctx.split_handler(args[1], body, ctx)
     ctx.mixins = saved
     _warn_refiring(body, event, ctx, span)
     _warn_missed(event, ctx, span)

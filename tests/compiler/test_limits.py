@@ -91,9 +91,12 @@ def test_a_handler_installed_again_for_its_event_takes_no_further_slot():
 
 def test_oversized_code_that_cannot_be_split_is_reported():
     leds = " ".join(f"self.setLed({i});" for i in range(30))
-    text = (f"role A {{ self.x() > 0; startup s() {{ self.handleEvent(EVENT_PROXIMITY_1, {{ {leds} }}); }} }}"
+    text = (f"role A {{ self.x() > 0; startup s() {{ if (connected_role(UP, A) > 0) {{ {leds} }} }} }}"
             "\ndeployment { A }")
     assert "E601" in codes_of(text)
+    handler = text.replace("if (connected_role(UP, A) > 0) {", "self.handleEvent(EVENT_PROXIMITY_1, {")
+    assert codes_of(handler.replace("} } }", "}); } }")) == []  # a handler is split (compiler.handlers)
+    assert "E601" in codes_of(handler.replace("} } }", "}); } }"), target="original")  # not on the firmware
     leds = " ".join(f"self.setLed({i});" for i in range(19))
     text = (f"role A {{ self.x() > 0; startup s() {{ if (connected_role(UP, A) > 0) {{ {leds} }} }} }}"
             "\ndeployment { A }")

@@ -67,10 +67,6 @@ def role_state_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict
     return run(folder, source)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "known limit: this program's state-dependent discovery is one 64-byte fragment (W601) that the "
-    "planner does not split yet, and the worlds now refuse packets over the IR limit as the ATRON "
-    "does, so only the entry module gets the program (docs/benchmarks.md, Known limits)"))
 def test_clicking_a_module_shows_its_state_values_over_time(role_state_run: tuple[Path, dict]) -> None:
     page, report = role_state_run
     # module 0 is Bottom for a moment, then Upper: its role state comes and goes
@@ -104,10 +100,6 @@ def test_clicking_a_module_shows_its_state_values_over_time(role_state_run: tupl
         assert f"{t:.2f} s {name} = {value}" in last["panel"]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "known limit: this program's state-dependent discovery is one 64-byte fragment (W601) that the "
-    "planner does not split yet, and the worlds now refuse packets over the IR limit as the ATRON "
-    "does, so only the entry module gets the program (docs/benchmarks.md, Known limits)"))
 def test_a_module_that_keeps_its_role_state_ends_with_the_reported_values(
         role_state_run: tuple[Path, dict]) -> None:
     page, report = role_state_run

@@ -165,6 +165,10 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
        ext=True),
     # connector and joint actions of structures that change (docs/vm.md "Changing shape"); the
     # connector c is a physical connector number (even: male, odd: female), as on the firmware
+    _i(79, "CONTINUE_COMMAND", (_O.COMMAND,), 0, 0,
+       "go on in the code of user command cmd (the module's role's) from its start, in the same "
+       "run with the same argument; a runtime error if the module has no code for cmd",
+       ext=True, no_fallthrough=True),
     _i(90, "CONNECT", (), 1, 1,
        "pop c; latch male connector c onto the female connector that faces it; the run waits until "
        "the latch has closed or failed, then pushes 1 (latched) or 0 (failed)", ext=True),
