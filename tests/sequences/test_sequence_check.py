@@ -72,11 +72,24 @@ def test_the_config_option_wins_over_the_one_the_sequence_names() -> None:
     assert "E810" in codes(EIGHT, config="snake1")  # no module of snake1 holds UpperLeft
 
 
-def test_parallel_steps_on_the_same_module_are_refused() -> None:
+def test_parallel_steps_may_share_the_far_end_of_their_latches() -> None:
+    # both open a latch of module 3, which does not act: independent (they run at once)
     text = EIGHT.replace("  UpperLeft.disconnect(0);\n  LowerRight.disconnect(6);",
                          "  parallel { UpperLeft.disconnect(0); LowerRight.disconnect(6); }")
     assert text != EIGHT
-    assert "E816" in codes(text)  # both open a latch of module 3
+    assert codes(text) == []
+
+
+@pytest.mark.parametrize("block", [
+    "UpperLeft.waitUntil(1 == 1); UpperLeft.disconnect(0);",  # one module acts twice
+    "UpperLeft.disconnect(0); Hub(self.x() == 2).waitUntil(1 == 1);",  # acts at the other's far end
+    "Hub(self.x() == 2).waitUntil(1 == 1); UpperLeft.disconnect(0);",  # the same, written the other way
+])
+def test_parallel_steps_on_the_same_module_are_refused(block: str) -> None:
+    text = EIGHT.replace("  UpperLeft.disconnect(0);\n  LowerRight.disconnect(6);",
+                         f"  parallel {{ {block} }}")
+    assert text != EIGHT
+    assert "E816" in codes(text)
 
 
 @pytest.mark.parametrize("step, code", [
