@@ -215,7 +215,7 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
     (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
     from rdcd_core.inputs import InputError, read_source
     from rdcd_core.sequences.check import steps_of
-    from rdcd_core.sequences.lower import done_value, steps_done
+    from rdcd_core.sequences.progress import done_value, steps_done
     from rdcd_core.syntax import parse
 
     try:

@@ -17,6 +17,7 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.module_api import ACTIONS
 from rdcd_core.semantics.model import Model
 from rdcd_core.sequences import codes
+from rdcd_core.sequences.limits import progress_limit
 from rdcd_core.sequences.roles import environment, evaluate, find_roles
 from rdcd_core.syntax import ast
 
@@ -72,6 +73,8 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
         if count > MAX_STEPS:
             found.append(diag.make(codes.BAD_STEP, sequence.name.span,
                                    f"sequence '{name}' has {count} steps; at most {MAX_STEPS}"))
+        else:
+            found += progress_limit(sequence)
         for step in steps_of(sequence):
             found += _check_step(model, step)
     return found
