@@ -197,3 +197,31 @@ def test_too_many_fragments_are_refused_at_a_step() -> None:
     assert "11 fragments" in d.message and "10 program slots" in d.message
     assert text[d.span.start:].startswith("LowerRight.turnQuarters(2);")
     assert "E805" not in codes(TURNS)
+
+
+# ----------------------------------------------------------------------------- fuzzed blocks
+
+STEPS = st.sampled_from(["UpperLeft.disconnect(0);", "LowerRight.disconnect(6);", "UpperLeft.connect(0);",
+                         "UpperLeft.turnQuarters(2);", "LowerRight.turnQuarters(-1);",
+                         "Hub(self.x() == 2).waitUntil(1 == 1);", "Side(self.x() == 1).connect(2);",
+                         "Nobody.connect(0);", "UpperLeft.connect(1);"])
+BLOCKS = st.lists(st.one_of(STEPS, st.lists(STEPS, max_size=9).map(
+    lambda s: "parallel { " + " ".join(s) + " }")), max_size=6)
+
+
+@settings(max_examples=50, deadline=None)
+@given(BLOCKS, st.sampled_from(["(eight7)", "", "(car7)"]), st.booleans())
+def test_fuzzed_blocks_fit_the_vm_or_say_why(items: list[str], config: str, rollback: bool) -> None:
+    body = "\n".join(f"  {item}" for item in items)
+    header = f"sequence s{config}{' rollback' if rollback else ''} {{"
+    text = with_sequence(body).replace("sequence s {", header)
+    result = check_text(text)
+    assert all(d.code != "E100" and 0 <= d.span.start <= d.span.end <= len(text) for d in result.diagnostics)
+    if result.has_errors:
+        return
+    for reverse in (None, "s"):
+        program = compile_model(result.model, text=text, reverse=reverse)
+        assert all(d.code != "E100" for d in program.diagnostics)
+        if not program.has_errors:  # what compiles fits the VM: ten slots, a slot's bytes
+            assert len(program.fragments) <= 10
+            assert all(f.size <= 64 for f in program.fragments)
