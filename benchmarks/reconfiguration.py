@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROOT))
 from rdcd_core.compiler import compile_model  # noqa: E402
 from rdcd_core.frontend import check_text  # noqa: E402
 from rdcd_core.sequences.check import constant_arg, steps_of  # noqa: E402
+from rdcd_core.sequences.progress import done_value, is_rollback  # noqa: E402
 from sim.config import load_config  # noqa: E402
 from sim.run import Options, simulate  # noqa: E402
 from vm.lattice.outside import parse_all  # noqa: E402
@@ -57,17 +58,26 @@ def done_time(report: dict) -> float:
     return max((e["t"] for e in report["events"] if e["kind"] in STRUCTURE_EVENTS), default=0.0)
 
 
-def cause(report: dict, goal: tuple, name: str) -> str:
-    """Why a run did not end in the goal shape, in a few words."""
+def finals(text: str) -> set[int]:
+    """The progress values a sequence ends with: done (and rolled back, with ``rollback``)."""
+    sequence = check_text(text).program.sequences[0]
+    n = sum(1 for _ in steps_of(sequence))
+    return {done_value(sequence), 2 * n + 1} if is_rollback(sequence) else {done_value(sequence)}
+
+
+def cause(report: dict, goal: tuple, name: str, final: set[int]) -> str:
+    """Why a run did not end in the goal shape, in a few words: still running when the run ended
+    (the progress is not one final value everywhere), or what failed."""
     failed = [e for e in report["events"] if e["kind"].endswith("_failed")]
     progress = sorted({m.get("final_state", {}).get(name) for m in report["modules"]} - {None})
+    first = (f"; first failure: {failed[0]['kind']} of module {failed[0]['module']} "
+             f"({failed[0]['detail'].get('cause', '?')})" if failed else "")
+    if len(progress) != 1 or progress[0] not in final:
+        return f"still running when the run ended, progress {progress}{first}"
     cells, links = shape_of_report(report)
-    if failed:
-        e = failed[0]
-        return f"{e['kind']} of module {e['module']} ({e['detail'].get('cause', '?')}), progress {progress}"
     if links == goal[1]:
-        return f"connections right, cells differ, progress {progress}"
-    return f"not done when the run ended, progress {progress}"
+        return f"connections right, cells differ, progress {progress}{first}"
+    return f"progress {progress} everywhere{first}"
 
 
 def prepare(text: str, reverse: bool, name: str):  # noqa: ANN201 - (program, start, goal)
@@ -92,7 +102,7 @@ def runs(text: str, config: str, name: str, reverse: bool, seeds: int, loss: flo
             ok += 1
             times.append(done_time(report))
         else:
-            causes.append(f"seed {seed}: {cause(report, goal, name)}")
+            causes.append(f"seed {seed}: {cause(report, goal, name, finals(text))}")
     return ok, times, causes
 
 
@@ -183,8 +193,15 @@ def main_rollback(args: argparse.Namespace) -> None:
                 final = shape_of_report(report)
                 end = "start" if final == begin else "target" if final == target else "between"
                 ends[end] += 1
-                if end == "between":
-                    between.append(f"seed {seed} ({fault}): {cause(report, target, name)}")
+                if end == "between":  # run it again four times as long: only later, or never?
+                    longer = Options(world=args.world, config="eight7", obstacle="none",
+                                     duration=4 * args.duration, seed=seed, packet_loss=loss,
+                                     outside_changes=parse_all([fault]))
+                    again = shape_of_report(simulate(program, start.copy(), longer))
+                    later = "start" if again == begin else "target" if again == target else "between"
+                    why = cause(report, target, name, finals(text))
+                    between.append(f"seed {seed} ({fault}): {why}; run for {4 * args.duration:g} s it "
+                                   f"ends in the {later} shape")
             print(f"{title}, loss {loss:.0%}, {args.seeds} runs, one step failing at random "
                   f"({', '.join(f'{f} x{n}' for f, n in sorted(chosen.items()))}): start shape "
                   f"{ends['start']}, target shape {ends['target']}, in between {ends['between']}", flush=True)
