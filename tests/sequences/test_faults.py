@@ -125,3 +125,10 @@ def test_the_command_line_takes_faults_and_refuses_bad_ones() -> None:
     for bad, words in (("0s:jam 77 0", "no module 77"), ("0s:jam 2 9", "connector 0..7"),
                        ("0s:fail 2", "connector 0..7"), ("1e99s:jam 2 0", "TIME")):
         assert_clean_failure(rdcd("simulate", program, *LATTICE, "--change", bad), 2, words)
+
+
+def test_an_undo_that_needs_a_jammed_latch_stays_in_between_and_says_so() -> None:
+    # jammed after the first unlatch: the latch fails, the second unlatch is undone, and the undo
+    # of the first would latch the jammed connector again: it is tried until the run ends
+    done = rdcd("simulate", str(HERE / "relatch.rdcd"), *LATTICE, "--change", "3s:jam 2 0")
+    assert done.returncode == 0 and "sequence relatch: rolling back (1 to undo)" in done.stdout, done.stderr
