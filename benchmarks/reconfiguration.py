@@ -1,18 +1,31 @@
-"""Reconfiguration sequences (docs/reconfiguration.md): success rate and time to reconfigure in the
-lattice world under packet loss, forward and backwards; bytes and fragments; rdcd check speed.
+"""Reconfiguration sequences (docs/reconfiguration.md): success rate and time to reconfigure under
+packet loss, forward and backwards, in the lattice or the physics world; sequential against
+parallel steps; rollback when one step fails; bytes and fragments; rdcd check speed.
 
-Run: ``python benchmarks/reconfiguration.py [--seeds N] [--reverse-seeds N] [--losses 0,0.1,0.2,0.3]
-[--duration S] [FILE ...]`` (default: examples/eight_to_snake.rdcd from eight7, 50 seeds forward,
-20 backwards). A run succeeds when its final structure (cells and connections) is the shape the
-checker finds at the end (backwards: the starting configuration).
+Run: ``python benchmarks/reconfiguration.py [--world lattice|physics] [--seeds N]
+[--reverse-seeds N] [--losses 0,0.1,0.2,0.3] [--duration S] [FILE ...]`` (default:
+examples/eight_to_snake.rdcd from eight7, lattice, 50 seeds forward, 20 backwards). A run succeeds
+when its final structure (cells and connections) is the shape the checker finds at the end
+(backwards: the starting configuration); in the physics world each failure is given its cause.
+
+``--parallel``: the time to reconfigure of the same steps one after the other and in a parallel
+block (eight_to_snake and tests/sequences/eight_to_snake_parallel.rdcd; the half turns of
+tests/sequences/parallel_turns.rdcd and the same turns one after the other).
+
+``--rollback``: one step fails at random in every run (a seeded choice among the latch and
+unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a latch ``fail`` — it does
+not close, once; vm/lattice/outside.py); counts the runs that end in the start shape, the target
+shape, or in between (eight_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
 """
 
 from __future__ import annotations
 
 import argparse
+import random
 import statistics
 import sys
 import time
+from collections import Counter
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -20,14 +33,19 @@ sys.path.insert(0, str(ROOT))
 
 from rdcd_core.compiler import compile_model  # noqa: E402
 from rdcd_core.frontend import check_text  # noqa: E402
+from rdcd_core.sequences.check import constant_arg, steps_of  # noqa: E402
+from rdcd_core.sequences.progress import done_value, is_rollback  # noqa: E402
 from sim.config import load_config  # noqa: E402
 from sim.run import Options, simulate  # noqa: E402
+from vm.lattice.outside import parse_all  # noqa: E402
 
 STRUCTURE_EVENTS = ("connect", "disconnect", "rotation_end")
+EIGHT = ROOT / "examples" / "eight_to_snake.rdcd"
+DATA = ROOT / "tests" / "sequences"
 
 
 def shape_of_report(report: dict) -> tuple:
-    cells = {m["id"]: tuple(m["final_lattice"]) for m in report["modules"]}
+    cells = {m["id"]: tuple(m["final_lattice"]) if m["final_lattice"] else None for m in report["modules"]}
     return cells, {tuple(c) for c in report["connections"]}
 
 
@@ -36,32 +54,65 @@ def shape_of(structure) -> tuple:  # noqa: ANN001
     return cells, {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()}
 
 
-def runs(text: str, config: str, name: str, reverse: bool, seeds: int, loss: float,
-         duration: float) -> tuple[int, list[float]]:
+def done_time(report: dict) -> float:
+    return max((e["t"] for e in report["events"] if e["kind"] in STRUCTURE_EVENTS), default=0.0)
+
+
+def finals(text: str) -> set[int]:
+    """The progress values a sequence ends with: done (and rolled back, with ``rollback``)."""
+    sequence = check_text(text).program.sequences[0]
+    n = sum(1 for _ in steps_of(sequence))
+    return {done_value(sequence), 2 * n + 1} if is_rollback(sequence) else {done_value(sequence)}
+
+
+def cause(report: dict, goal: tuple, name: str, final: set[int]) -> str:
+    """Why a run did not end in the goal shape, in a few words: still running when the run ended
+    (the progress is not one final value everywhere), or what failed."""
+    failed = [e for e in report["events"] if e["kind"].endswith("_failed")]
+    progress = sorted({m.get("final_state", {}).get(name) for m in report["modules"]} - {None})
+    first = (f"; first failure: {failed[0]['kind']} of module {failed[0]['module']} "
+             f"({failed[0]['detail'].get('cause', '?')})" if failed else "")
+    if len(progress) != 1 or progress[0] not in final:
+        return f"still running when the run ended, progress {progress}{first}"
+    cells, links = shape_of_report(report)
+    if links == goal[1]:
+        return f"connections right, cells differ, progress {progress}{first}"
+    return f"progress {progress} everywhere{first}"
+
+
+def prepare(text: str, reverse: bool, name: str):  # noqa: ANN201 - (program, start, goal)
     result = check_text(text)
+    assert not result.has_errors, [d.message for d in result.diagnostics]
     trace = result.traces[0]
+    config = result.program.sequences[0].config.text
     start = trace.final if reverse else load_config(config)
     goal = shape_of(load_config(config) if reverse else trace.final)
-    program = compile_model(result.model, text=text, reverse=name if reverse else None)
-    ok, times = 0, []
+    return compile_model(result.model, text=text, reverse=name if reverse else None), start, goal
+
+
+def runs(text: str, config: str, name: str, reverse: bool, seeds: int, loss: float,
+         duration: float, world: str = "lattice") -> tuple[int, list[float], list[str]]:
+    program, start, goal = prepare(text, reverse, name)
+    ok, times, causes = 0, [], []
     for seed in range(seeds):
-        options = Options(world="lattice", config=config, obstacle="none", duration=duration, seed=seed,
+        options = Options(world=world, config=config, obstacle="none", duration=duration, seed=seed,
                           packet_loss=loss)
         report = simulate(program, start.copy(), options)
         if shape_of_report(report) == goal:
             ok += 1
-            times.append(max(e["t"] for e in report["events"] if e["kind"] in STRUCTURE_EVENTS))
-    return ok, times
+            times.append(done_time(report))
+        else:
+            causes.append(f"seed {seed}: {cause(report, goal, name, finals(text))}")
+    return ok, times, causes
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("files", nargs="*", default=[str(ROOT / "examples" / "eight_to_snake.rdcd")])
-    parser.add_argument("--seeds", type=int, default=50)
-    parser.add_argument("--reverse-seeds", type=int, default=20)
-    parser.add_argument("--losses", default="0,0.1,0.2,0.3")
-    parser.add_argument("--duration", type=float, default=30.0)
-    args = parser.parse_args()
+def spread(times: list[float]) -> str:
+    if not times:
+        return "no success"
+    return f"median {statistics.median(times):.2f} s, max {max(times):.2f} s"
+
+
+def main_default(args: argparse.Namespace) -> None:
     losses = [float(x) for x in args.losses.split(",")]
     for path in args.files:
         text = Path(path).read_text(encoding="utf-8")
@@ -72,17 +123,109 @@ def main() -> int:
         program = compile_model(result.model, text=text)
         sequence = result.program.sequences[0]
         config = sequence.config.text if sequence.config is not None else "car7"
-        steps = sum(1 for item in sequence.items for _ in getattr(item, "steps", (item,)))
+        steps = sum(1 for _ in steps_of(sequence))
         print(f"{Path(path).name}: {steps} steps from {config}; {len(program.fragments)} fragments, "
               f"{program.total_bytes} bytes, largest {max(f.size for f in program.fragments)}; "
-              f"rdcd check {check_ms:.1f} ms (mean of 20)")
+              f"rdcd check {check_ms:.1f} ms (mean of 20); world {args.world}")
         for reverse, seeds in ((False, args.seeds), (True, args.reverse_seeds)):
             for loss in losses:
-                ok, times = runs(text, config, sequence.name.text, reverse, seeds, loss, args.duration)
-                spread = (f"time to reconfigure median {statistics.median(times):.2f} s, "
-                          f"max {max(times):.2f} s" if times else "no success")
+                if not seeds:
+                    continue
+                began = time.perf_counter()
+                ok, times, causes = runs(text, config, sequence.name.text, reverse, seeds, loss,
+                                         args.duration, args.world)
+                wall = time.perf_counter() - began
                 print(f"  {'backwards' if reverse else 'forward'} loss {loss:.0%}: {ok}/{seeds} runs end "
-                      f"in the target shape; {spread}", flush=True)
+                      f"in the target shape; time to reconfigure {spread(times)} ({wall:.0f} s wall)",
+                      flush=True)
+                for line in causes:
+                    print(f"    {line}", flush=True)
+
+
+def main_parallel(args: argparse.Namespace) -> None:
+    turns = (DATA / "parallel_turns.rdcd").read_text()
+    parallel_eight = (DATA / "eight_to_snake_parallel.rdcd").read_text()
+    pairs = [("eight_to_snake: two unlatches", EIGHT.read_text(), parallel_eight),
+             ("parallel_turns: two unlatches, two half turns",
+              turns.replace("  parallel {\n", "").replace("  }\n}", "}").replace("\n    ", "\n  "), turns)]
+    for loss in [float(x) for x in args.losses.split(",")]:
+        for title, sequential, parallel in pairs:
+            for kind, text in (("one after the other", sequential), ("parallel block", parallel)):
+                name = check_text(text).program.sequences[0].name.text
+                ok, times, _ = runs(text, "eight7", name, False, args.seeds, loss, args.duration, args.world)
+                print(f"{title}, {kind}, loss {loss:.0%}: {ok}/{args.seeds} in the target shape; time to "
+                      f"reconfigure {spread(times)}; mean {statistics.mean(times):.2f} s" if times else
+                      f"{title}, {kind}, loss {loss:.0%}: {ok}/{args.seeds}", flush=True)
+
+
+def faults_for(text: str) -> list[str]:
+    """For each latch or unlatch step, the fault that makes it fail (at 0 s)."""
+    result = check_text(text)
+    trace = result.traces[0]
+    out = []
+    for step, done in zip(steps_of(result.program.sequences[0]), trace.results, strict=False):
+        action = step.action.text
+        if action in ("connect", "disconnect"):
+            kind = "fail" if action == "connect" else "jam"
+            out.append(f"0s:{kind} {done.module} {constant_arg(step, result.model)}")
+    return out
+
+
+def main_rollback(args: argparse.Namespace) -> None:
+    eight = EIGHT.read_text().replace("sequence eightToSnake(eight7) {",
+                                      "sequence eightToSnake(eight7) rollback {")
+    cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text())]
+    for loss in [float(x) for x in args.losses.split(",")]:
+        for title, text in cases:
+            program, start, target = prepare(text, False, "")
+            begin = shape_of(start)
+            name = check_text(text).program.sequences[0].name.text
+            faults = faults_for(text)
+            ends: Counter[str] = Counter()
+            chosen: Counter[str] = Counter()
+            between = []
+            for seed in range(args.seeds):
+                fault = random.Random(seed).choice(faults)
+                chosen[fault] += 1
+                options = Options(world=args.world, config="eight7", obstacle="none", duration=args.duration,
+                                  seed=seed, packet_loss=loss, outside_changes=parse_all([fault]))
+                report = simulate(program, start.copy(), options)
+                final = shape_of_report(report)
+                end = "start" if final == begin else "target" if final == target else "between"
+                ends[end] += 1
+                if end == "between":  # run it again four times as long: only later, or never?
+                    longer = Options(world=args.world, config="eight7", obstacle="none",
+                                     duration=4 * args.duration, seed=seed, packet_loss=loss,
+                                     outside_changes=parse_all([fault]))
+                    again = shape_of_report(simulate(program, start.copy(), longer))
+                    later = "start" if again == begin else "target" if again == target else "between"
+                    why = cause(report, target, name, finals(text))
+                    between.append(f"seed {seed} ({fault}): {why}; run for {4 * args.duration:g} s it "
+                                   f"ends in the {later} shape")
+            print(f"{title}, loss {loss:.0%}, {args.seeds} runs, one step failing at random "
+                  f"({', '.join(f'{f} x{n}' for f, n in sorted(chosen.items()))}): start shape "
+                  f"{ends['start']}, target shape {ends['target']}, in between {ends['between']}", flush=True)
+            for line in between:
+                print(f"    {line}", flush=True)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("files", nargs="*", default=[str(EIGHT)])
+    parser.add_argument("--world", choices=("lattice", "physics"), default="lattice")
+    parser.add_argument("--seeds", type=int, default=50)
+    parser.add_argument("--reverse-seeds", type=int, default=20)
+    parser.add_argument("--losses", default="0,0.1,0.2,0.3")
+    parser.add_argument("--duration", type=float, default=30.0)
+    parser.add_argument("--parallel", action="store_true", help="sequential against parallel steps")
+    parser.add_argument("--rollback", action="store_true", help="one step failing at random, with rollback")
+    args = parser.parse_args()
+    if args.parallel:
+        main_parallel(args)
+    elif args.rollback:
+        main_rollback(args)
+    else:
+        main_default(args)
     return 0
 
 

@@ -215,6 +215,7 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
     (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
     from rdcd_core.inputs import InputError, read_source
     from rdcd_core.sequences.check import steps_of
+    from rdcd_core.sequences.progress import done_value, steps_done
     from rdcd_core.syntax import parse
 
     try:
@@ -234,10 +235,11 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
         if rollback and high > steps:
             left = 2 * steps + 1 - high
             state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
-        elif low == steps:
+        elif low == (steps if rollback else done_value(sequence)):
             state = "done"
-        else:
-            state = f"not done: {high} of {steps} steps when the run ended"
+        else:  # a parallel block's progress is a mask of its steps done (lower.progress_plan)
+            done = high if rollback else steps_done(sequence, high, reverse == name)
+            state = f"not done: {done} of {steps} steps when the run ended"
         lines.append(f"sequence {name}{way}: {state}")
     return lines
 

@@ -134,6 +134,15 @@ class Shape:
             self.say(c.module, "outside" if ok else "outside_failed",
                      detail if ok else {**detail, "reason": f"no module {c.module}"})
             return
+        if c.kind in ("jam", "fail"):  # the latch no longer moves, or once (changes.py)
+            ok = c.module in s.modules and c.connector is not None
+            if ok and c.kind == "jam":
+                s.jammed = s.jammed | {(c.module, c.connector)}
+            elif ok:
+                s.failing = s.failing | {(c.module, c.connector)}
+            self.say(c.module, "outside" if ok else "outside_failed",
+                     detail if ok else {**detail, "reason": f"no module {c.module}"})
+            return
         self.say(c.module, "outside", detail)
 
         def make(t: Structure) -> Any:

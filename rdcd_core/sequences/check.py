@@ -17,6 +17,7 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.module_api import ACTIONS
 from rdcd_core.semantics.model import Model
 from rdcd_core.sequences import codes
+from rdcd_core.sequences.limits import progress_limit
 from rdcd_core.sequences.roles import environment, evaluate, find_roles
 from rdcd_core.syntax import ast
 
@@ -72,6 +73,8 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
         if count > MAX_STEPS:
             found.append(diag.make(codes.BAD_STEP, sequence.name.span,
                                    f"sequence '{name}' has {count} steps; at most {MAX_STEPS}"))
+        else:
+            found += progress_limit(sequence)
         for step in steps_of(sequence):
             found += _check_step(model, step)
     return found
@@ -146,20 +149,26 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
     if reverse:
         order = [tuple(reversed(stage)) for stage in reversed(order)]
     for stage in order:
-        touched: dict[int, ast.SeqStep] = {}
+        # a module that acts or is carried must not take part in another step of the block; the
+        # far end of a latch may be the far end of another latch (other connectors, other links)
+        acting: dict[int, ast.SeqStep] = {}
+        ends: dict[int, ast.SeqStep] = {}
         for step in stage:
             ok, mid, touches = _one_step(model, step, current, trace, reverse, learned)
             if not ok:
                 return trace
-            for other in touches:
-                if other in touched and len(stage) > 1:
+            moves, far = touches
+            for other in sorted(moves | far):
+                earlier = acting.get(other) or (ends.get(other) if other in moves else None)
+                if earlier is not None and len(stage) > 1:
                     trace.diagnostics.append(diag.make(
                         codes.SHARED, step.span,
                         f"this step and an earlier one of its parallel block both touch module "
                         f"{other}: make them one after the other",
-                        related=(diag.Related(touched[other].span, "the other step"),)))
+                        related=(diag.Related(earlier.span, "the other step"),)))
                     return trace
-                touched[other] = step
+            acting.update((other, step) for other in moves)
+            ends.update((other, step) for other in far)
             for other in current.modules:  # a module alone learns its place again when attached
                 if not current.neighbours(other):
                     learned.pop(other, None)
@@ -170,8 +179,11 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
     return trace
 
 
+Touches = tuple[set[int], set[int]]  # modules that act or are carried; far ends of a latch
+
+
 def _one_step(model: Model, step: ast.SeqStep, current: Any, trace: Trace,
-              reverse: bool, learned: dict[int, Any]) -> tuple[bool, int | None, set[int]]:
+              reverse: bool, learned: dict[int, Any]) -> tuple[bool, int | None, Touches]:
     roles, uncertain = find_roles(model, current, learned)
     env = environment(model, current, roles, learned)
     sure, maybe = [], []
@@ -190,27 +202,27 @@ def _one_step(model: Model, step: ast.SeqStep, current: Any, trace: Trace,
             codes.MANY_HOLDERS, step.role.span,
             f"modules {', '.join(map(str, sure))} hold {step.role.text}{where} here: a step needs "
             "exactly one; add a condition or a role that tells them apart"))
-        return False, None, set()
+        return False, None, (set(), set())
     if not sure and not maybe:
         trace.diagnostics.append(diag.make(
             codes.NO_HOLDER, step.role.span,
             f"no module holds {step.role.text}{where} at this point of the sequence "
             f"(the roles here: {_roles_text(roles)})"))
-        return False, None, set()
+        return False, None, (set(), set())
     if not sure and len(maybe) > 1 or maybe and sure:
         trace.diagnostics.append(diag.make(
             codes.UNCHECKED, step.role.span,
             f"which module holds {step.role.text}{where} depends on values known only at run time "
             "(modules " + ", ".join(map(str, sure + maybe)) + "): the rest of the sequence is not "
             "checked"))
-        return False, None, set()
+        return False, None, (set(), set())
     mid = (sure or maybe)[0]
     action = INVERSE[step.action.text] if reverse else step.action.text
     if action == "waitUntil":
-        return True, mid, {mid}
+        return True, mid, ({mid}, set())
     value = constant_arg(step, model)
     if value is None:
-        return False, mid, set()
+        return False, mid, (set(), set())
     if action == "connect":
         change = current.latch(mid, value)
     elif action == "disconnect":
@@ -222,18 +234,16 @@ def _one_step(model: Model, step: ast.SeqStep, current: Any, trace: Trace,
             change.cause, codes.NO_LATCH)
         trace.diagnostics.append(diag.make(code, step.span, f"module {mid} ({roles.get(mid)}): "
                                            f"{change.reason or change.describe()}"))
-        return False, mid, set()
+        return False, mid, (set(), set())
     if change.parts:
         sizes = " and ".join("{" + ", ".join(map(str, sorted(p))) + "}" for p in change.parts)
         trace.diagnostics.append(diag.make(
             codes.SPLIT, step.span,
             f"module {mid} ({roles.get(mid)}) would split the robot into {sizes}: latch the part "
             "elsewhere first"))
-        return False, mid, set()
-    touches = {mid, *change.moved}
-    if change.link is not None:
-        touches |= {change.link.a, change.link.b}
-    return True, mid, touches
+        return False, mid, (set(), set())
+    far = {change.link.a, change.link.b} - {mid} if change.link is not None else set()
+    return True, mid, ({mid, *change.moved}, far)
 
 
 def _text(expr: Any) -> str:

@@ -61,3 +61,25 @@ UNCHECKED = define_code(
     "run time); the rest of the sequence is not checked",
     "state ready := 0;\nrole A { ready == max(neighbours.ready); }\nrole B { }\n"
     "sequence s(car7) { A.waitUntil(1 == 1); }\ndeployment { A, B }")
+TOO_MANY_FRAGMENTS = define_code(
+    "E805", _E,
+    "the program with its sequences compiles to more fragments than a module has program slots",
+    "role A { self.center_position == EAST_WEST; }\nrole B { self.center_position == NORTH_SOUTH; }\n"
+    "role C { self.center_position == UP_DOWN; }\nsequence s {\n"
+    + "  A.waitUntil(1 == 1); B.waitUntil(1 == 1); C.waitUntil(1 == 1);\n" * 3
+    + "}\ndeployment { A, B, C }")
+PROGRESS_RANGE = define_code(
+    "E806", _E,
+    "the progress of a sequence needs more values than its state byte holds (a parallel block of m "
+    "steps takes 2^m - 1)",
+    _ROLE + "sequence s {\n  parallel {\n    A.waitUntil(1 == 1); A.waitUntil(2 == 2); "
+    "A.waitUntil(3 == 3); A.waitUntil(4 == 4);\n    A.waitUntil(5 == 5); A.waitUntil(6 == 6); "
+    "A.waitUntil(7 == 7); B.waitUntil(1 == 1);\n  }\n}\ndeployment { A, B }")
+PROGRESS_INVARIANT = define_code(
+    "E807", _E,
+    "a role's invariant reads a sequence's progress, which puts the discovery of every role in one "
+    "fragment, here larger than a packet (write the test in the role's behaviours instead)",
+    "role A { self.center_position == EAST_WEST; self.x() == 1; self.y() == 1; }\n"
+    "role Done { self.center_position == NORTH_SOUTH; s == 1; }\n"
+    "role B { self.center_position == NORTH_SOUTH; }\nrole C { }\n"
+    "sequence s { A.disconnect(0); }\ndeployment { A, Done, B, C }")

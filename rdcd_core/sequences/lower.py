@@ -11,9 +11,15 @@ to the neighbours, and behaviours in every deployed role:
   when the progress it has heard says step k is next, and only it moves the progress on. A failed
   action leaves the progress at k and is tried again on the next run of the behaviour.
 
-Steps are numbered in order; the steps of a parallel block are numbered in the order written
-(they run one after the other: the checker has made sure they touch different modules, so the
-order does not change the result). ``reverse``: the undo of each step in reverse order.
+Stages take a range of progress values (``progress_plan``): a step alone one value, a parallel
+block of m steps 2^m - 1 values read as a bitmask of its steps done: at progress k + mask, the
+module of step j acts once (it remembers the block in a local state ``S_par``) and adds its bit
+2^j while the bit is not there. The relay stays ``max``: a bit that max drops (two modules each
+with one bit) is added again by the module of that step when it hears the larger value, and
+adding a missing bit always makes the value larger, so the progress grows until every bit is
+there, k + 2^m - 1, the next stage's first value. With ``rollback`` the steps of a block run one
+after the other (the undo of a failed step counts the steps done). ``reverse``: the undo of each
+step in reverse order (a parallel block stays parallel).
 
 The generated members carry the span of their step (or the sequence's), so a diagnostic of the
 compiler points at the step.
@@ -26,10 +32,43 @@ from typing import Any
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS, stages
+from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
 STEPS_PER_BEHAVIOUR = 2  # two steps' code fits a 43-byte fragment with room for a condition
+
+
+def parallel_code(sequence: str, stage: Stage, j: int, step: ast.SeqStep,
+                  reverse: bool = False) -> tuple[str, str] | None:
+    """Step j of block ``stage`` run at once, as two behaviours (one does not fit a fragment):
+
+    - act once: ``if (S >= k && S_par < b) { if (self.disconnect(c)) { S_par := b; } }`` —
+      blocks are numbered in the order they run and a module acts in one step of a block (E816),
+      so ``S_par < b`` means "not done yet", and the block cannot be over without this step;
+    - add the bit while it is missing: ``if (S_par == b && ((e - S) / 2^j) % 2 == 1)
+      { S := S + 2^j; }`` with e = k + 2^m - 1 (all bits set): up to e, e - S is the complement
+      of the mask, whose bit j is set when the mask's is not; past e it is negative and (rounding
+      toward zero, the sign of the dividend) never 1 — one test for "in the block, not marked".
+    """
+    if step_code(sequence, 0, step, reverse, at=0, then=0) is None:
+        return None
+    k, end, bit, b = stage.base, stage.base + stage.width, 1 << j, stage.block
+    mine = f"{sequence}_par"
+    guard = f"{sequence} >= {k} && {mine} < {b}" if k else f"{mine} < {b}"
+    if step.condition is not None:
+        guard += f" && ({expr(step.condition)})"
+    action = INVERSE[step.action.text] if reverse else step.action.text
+    arg = expr(step.args[0])
+    if action == "waitUntil":
+        act = f"if ({guard} && ({arg})) {{ {mine} := {b}; }}"
+    else:
+        if action == "turnQuarters" and reverse:
+            arg = f"0 - ({arg})"
+        act = f"if ({guard}) {{ if (self.{action}({arg})) {{ {mine} := {b}; }} }}"
+    missing = f"({end} - {sequence}) / {bit}" if bit > 1 else f"{end} - {sequence}"
+    mark = f"if ({mine} == {b} && ({missing}) % 2 == 1) {{ {sequence} := {sequence} + {bit}; }}"
+    return act, mark
 
 
 def step_code(sequence: str, k: int, step: ast.SeqStep, reverse: bool = False, *,
@@ -68,29 +107,39 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     out: dict[str, list[tuple[str, Span]]] = {
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); }}",
                 sequence.header_span)] for role in deployed}
-    by_role: dict[str, list[tuple[str, Span]]] = {}
+    by_role: dict[str, list[tuple[str, Span, bool]]] = {}  # code, span, in a behaviour alone
+
+    def add(step: ast.SeqStep, code: str | None, alone: bool) -> None:
+        if code is not None and step.role.text in out:
+            by_role.setdefault(step.role.text, []).append((code, step.span, alone))
+
     steps = ordered_steps(sequence, reverse)
     n = len(steps)
-    rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
-    for k, step in enumerate(steps):
+    rollback = is_rollback(sequence)
+    if not rollback:
+        for stage in progress_plan(sequence, reverse):
+            for j, step in enumerate(stage.steps):
+                if stage.block:  # run at once: two behaviours of their own (their code is longer)
+                    for code in parallel_code(name, stage, j, step, reverse) or ():
+                        add(step, code, True)
+                else:  # a step with a condition (or waitUntil's) takes a behaviour alone
+                    add(step, step_code(name, stage.base, step, reverse),
+                        step.condition is not None or step.action.text == "waitUntil")
+    for k, step in enumerate(steps if rollback else ()):
         # rollback: progress 2n - j means "undo step j next"; a failure at step k undoes k - 1 first,
         # and 2n + 1 is "rolled back" — the progress still only grows, so max() still spreads it
-        code = step_code(name, k, step, reverse, failed=2 * n - k + 1 if rollback else None)
-        if code is not None and step.role.text in out:
-            by_role.setdefault(step.role.text, []).append((code, step.span))
-        if rollback and step.action.text != "waitUntil":
-            undo = step_code(name, k, step, not reverse, at=2 * n - k, then=2 * n - k + 1)
-            if undo is not None and step.role.text in out:
-                by_role.setdefault(step.role.text, []).append((undo, step.span))
+        add(step, step_code(name, k, step, reverse, failed=2 * n - k + 1), True)
+        if step.action.text != "waitUntil":  # a step with its failure branch fills a behaviour
+            add(step, step_code(name, k, step, not reverse, at=2 * n - k, then=2 * n - k + 1), True)
     for role, codes in by_role.items():
-        per = 1 if rollback else STEPS_PER_BEHAVIOUR  # a step with its failure branch fills one
-        chunks: list[list[tuple[str, Span]]] = [[]]
-        for code, span in codes:  # a step with a condition takes a behaviour alone
-            if len(chunks[-1]) == per or (chunks[-1] and "&& (" in code + chunks[-1][0][0]):
+        chunks: list[list[tuple[str, Span, bool]]] = [[]]
+        for item in codes:
+            last = chunks[-1]
+            if last and (len(last) == STEPS_PER_BEHAVIOUR or item[2] or last[0][2]):
                 chunks.append([])
-            chunks[-1].append((code, span))
+            chunks[-1].append(item)
         for i, chunk in enumerate(chunks):
-            body = " ".join(code for code, _ in chunk)
+            body = " ".join(code for code, _, _ in chunk)
             out[role].append((f"behavior {name}_{role}_{i}() {{ {body} }}", chunk[0][1]))
     return out
 
@@ -115,6 +164,9 @@ def lower(program: ast.Program, reverse: str | None = None) -> ast.Program:
         seen.add(name)
         if not any(s.name.text == name for s in program.states):
             states.append(_respan(_state(name), sequence.name.span))
+        if any(stage.block for stage in progress_plan(sequence)) and \
+                not any(s.name.text == f"{name}_par" for s in program.states):
+            states.append(_respan(_state(f"{name}_par"), sequence.name.span))  # see parallel_code
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
                                 reverse == name)
         for role, items in generated.items():

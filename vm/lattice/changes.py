@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 Vec = tuple[int, int, int]
 
 CAUSES = ("no_module", "bad_connector", "female", "not_aligned", "faces_male", "in_use",
-          "not_latched", "loop", "collision", "ground", "occupied", "no_contact", "bad_place")
+          "not_latched", "loop", "collision", "ground", "occupied", "no_contact", "bad_place", "jammed")
 
 
 @dataclass(frozen=True)
@@ -77,6 +77,14 @@ def _connector(s: Structure, op: str, module: int, physical: object) -> Change |
         return _fail(op, module, "no_module", f"no module {module}")
     if not isinstance(physical, int) or not 0 <= physical <= 7:
         return _fail(op, module, "bad_connector", f"connector {physical!r} is not 0..7", connector=None)
+    move = "close" if op == "latch" else "open"
+    if (module, physical) in s.jammed:  # faults put in from outside (vm.lattice.outside jam, fail)
+        return _fail(op, module, "jammed", f"connector {physical} of module {module} is jammed: its "
+                     f"latch does not {move}", connector=physical)
+    if op == "latch" and (module, physical) in s.failing:
+        s.failing = s.failing - {(module, physical)}
+        return _fail(op, module, "jammed", f"the latch of connector {physical} of module {module} did "
+                     "not close (once)", connector=physical)
     return None
 
 

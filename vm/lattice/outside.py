@@ -1,5 +1,7 @@
 """Outside changes: what a person does to a running robot at a given time (docs/simulator.md
-"Outside changes") — detach a module, attach a new one on a free cell, stop a module for good.
+"Outside changes") — detach a module, attach a new one on a free cell, stop a module for good,
+jam a connector (its latch no longer moves: it neither closes nor opens), or make a connector's
+latch not close the next time it is asked to (once: a latch that does not close).
 
 Text form (``rdcd simulate --change``, one change per option or per line of a file; ``#``
 starts a comment):
@@ -7,6 +9,8 @@ starts a comment):
     TIME:detach ID                 e.g.  20s:detach 3
     TIME:attach ID at X,Y,Z [AXIS] [rot R] [mirrored]      5s:attach 8 at 1,1,0 EW
     TIME:stop ID                   30s:stop 4
+    TIME:jam ID CONNECTOR          0s:jam 2 0      (for good)
+    TIME:fail ID CONNECTOR         0s:fail 2 0     (its next latch does not close, once)
 
 TIME is seconds, with or without ``s``. The axis of a cell follows from its parity and may be
 left out (if given it must agree); ``rot`` (0..3) and ``mirrored`` are the mount
@@ -23,7 +27,7 @@ from vm import navigation
 from vm.lattice.mount import Mount
 
 Vec = tuple[int, int, int]
-KINDS = ("detach", "attach", "stop")
+KINDS = ("detach", "attach", "stop", "jam", "fail")
 MAX_CHANGES = 1000
 
 _NUMBER = r"[0-9]+(?:\.[0-9]*)?"
@@ -46,22 +50,30 @@ class OutsideChange:
     axis: int | None = None  # attach
     mount: Mount = Mount()
     text: str = ""  # as written
+    connector: int | None = None  # jam, fail: the physical connector 0..7
 
     def describe(self) -> str:
         where = f" at {','.join(map(str, self.cell))}" if self.cell else ""
-        return f"{self.kind} {self.module}{where}"
+        which = f" {self.connector}" if self.connector is not None else ""
+        return f"{self.kind} {self.module}{which}{where}"
 
 
 def parse(text: str) -> OutsideChange:
     match = _PATTERN.fullmatch(text)
     if match is None:
         raise ChangeError(f"change {text!r}: write TIME:detach ID, TIME:attach ID at X,Y,Z [AXIS] "
-                          "[rot R] [mirrored] or TIME:stop ID (e.g. 20s:detach 3)")
+                          "[rot R] [mirrored], TIME:stop ID, TIME:jam ID CONNECTOR or "
+                          "TIME:fail ID CONNECTOR (e.g. 20s:detach 3)")
     kind = match["kind"]
     if kind not in KINDS:
-        raise ChangeError(f"change {text!r}: unknown change {kind!r} (detach, attach or stop)")
+        raise ChangeError(f"change {text!r}: unknown change {kind!r} (detach, attach, stop, jam or fail)")
     t, module = float(match["t"]), int(match["id"])
     words = match["rest"].split()
+    if kind in ("jam", "fail"):
+        if match["cell"] or len(words) != 1 or words[0] not in tuple("01234567"):
+            raise ChangeError(f"change {text!r}: {kind} takes a module id and a connector 0..7 "
+                              f"(e.g. 0s:{kind} 2 0)")
+        return OutsideChange(t, kind, module, text=text.strip(), connector=int(words[0]))
     if kind != "attach":
         if match["cell"] or words:
             raise ChangeError(f"change {text!r}: {kind} takes only a module id")

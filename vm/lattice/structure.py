@@ -89,7 +89,9 @@ class Structure:
     returns a ``vm.lattice.changes.Change``; callbacks in ``listeners`` hear every change that
     happened). ``ground_z``: the lowest z a module's centre may reach (the plane under the lowest
     module at construction; None: no ground). ``blocked``: cells no module may enter or sweep
-    through (a world's obstacles)."""
+    through (a world's obstacles). ``jammed``: (module, physical connector) pairs whose latch
+    does not move — it neither closes nor opens; ``failing``: pairs whose latch does not close
+    the next time it is asked to, once (faults put in from outside: ``vm.lattice.outside``, jam and fail)."""
 
     modules: dict[int, ModuleSpec]
     entry: int
@@ -117,6 +119,8 @@ class Structure:
         self._dirs = {mid: directions(spec) for mid, spec in self.modules.items()}
         self.ground_z: int | None = min(spec.position[2] for spec in self.modules.values())
         self.blocked: frozenset[Vec] = frozenset()
+        self.jammed: frozenset[tuple[int, int]] = frozenset()
+        self.failing: frozenset[tuple[int, int]] = frozenset()
         self.listeners: list[Callable[[Any], None]] = []
         self.version = 0  # counts the changes that happened
 

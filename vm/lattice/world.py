@@ -318,6 +318,16 @@ class LatticeWorld:
             self.hals[c.module].joint.stop()
             self.note(c.module, "outside", detail)
             return
+        if c.kind in ("jam", "fail"):  # the latch no longer moves, or once (changes.py)
+            if c.module not in s.modules or c.connector is None:
+                self.note(c.module, "outside_failed", {**detail, "reason": f"no module {c.module}"})
+                return
+            if c.kind == "jam":
+                s.jammed = s.jammed | {(c.module, c.connector)}
+            else:
+                s.failing = s.failing | {(c.module, c.connector)}
+            self.note(c.module, "outside", detail)
+            return
         if c.kind == "detach":
             self.note(c.module, "outside", detail)
             change = s.remove(c.module)
