@@ -79,11 +79,10 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if chosen.quirks.firmware_controller:  # the firmware drops a command it has no code for
         found.extend(early_commands(planner.traffic, table.entries, chosen.name))
     found.extend(program_limit(model, chosen.program_slots))
-    if model.program.sequences:  # fragments a module keeps while they spread (E805); E807
-        from rdcd_core.sequences.limits import progress_invariant, slot_limit
+    if model.program.sequences:  # fragments a module keeps while they spread (E805)
+        from rdcd_core.sequences.limits import slot_limit
 
         found.extend(slot_limit(model, planner.fragments, chosen.program_slots))
-        found = progress_invariant(model, planner.fragments, found, planner.budget)
     found.extend(mixin_methods(model))
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code
         found.extend(verify_fragments(planner.fragments, chosen))

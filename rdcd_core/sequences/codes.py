@@ -75,11 +75,3 @@ PROGRESS_RANGE = define_code(
     _ROLE + "sequence s {\n  parallel {\n    A.waitUntil(1 == 1); A.waitUntil(2 == 2); "
     "A.waitUntil(3 == 3); A.waitUntil(4 == 4);\n    A.waitUntil(5 == 5); A.waitUntil(6 == 6); "
     "A.waitUntil(7 == 7); B.waitUntil(1 == 1);\n  }\n}\ndeployment { A, B }")
-PROGRESS_INVARIANT = define_code(
-    "E807", _E,
-    "a role's invariant reads a sequence's progress, which puts the discovery of every role in one "
-    "fragment, here larger than a packet (write the test in the role's behaviours instead)",
-    "role A { self.center_position == EAST_WEST; self.x() == 1; self.y() == 1; }\n"
-    "role Done { self.center_position == NORTH_SOUTH; s == 1; }\n"
-    "role B { self.center_position == NORTH_SOUTH; }\nrole C { }\n"
-    "sequence s { A.disconnect(0); }\ndeployment { A, Done, B, C }")

@@ -1,11 +1,9 @@
 """What a sequence needs of the DCD-VM, said at the line before it runs (docs/reconfiguration.md
 "Limits"): progress values within a state byte (E806), program slots for the fragments the
 program with its sequences compiles to (E805) — a module keeps every fragment that reaches it
-while the program is being spread, so the entry refuses the fragment after the last slot — and a
-role invariant on the progress (E807): a role whose invariants read state makes the compiler
-test every role in one program that runs again when a value changes (``plan.watched_code``),
-which with a sequence's code in every role is far larger than a packet. Until that program can
-be split (issue 25), the E601/W601 of that fragment is said at the invariant, with the way out."""
+while the program is being spread, so the entry refuses the fragment after the last slot.
+(A role invariant on the progress, `S == N;`, once E807, now fits: state-dependent discovery is
+split over fragments, docs/language.md "Fragments that fit".)"""
 
 from __future__ import annotations
 
@@ -52,29 +50,3 @@ def slot_limit(model: Any, fragments: list[Any], slots: int) -> list[diag.Diagno
                       "and the sequence would stop there; use fewer steps per role (a step alone "
                       "takes half a behaviour, a step of a parallel block two, one with a "
                       "condition one), or fewer roles")]
-
-
-def progress_invariant(model: Any, fragments: list[Any], found: list[diag.Diagnostic],
-                       budget: int) -> list[diag.Diagnostic]:
-    """``found`` with the E601/W601 of the one discovery fragment of all roles replaced by E807
-    at the first invariant that reads a sequence's progress (when one does)."""
-    progress = {q.name.text for q in model.program.sequences}
-    deployed = list(model.deployment)
-    watched = next((f for f in fragments if f.kind == "discovery" and f.roles == deployed
-                    and len(deployed) > 1 and f.size > budget), None)
-    reading = next(((role, inv) for role in deployed for inv in model.roles[role].invariants
-                    if any(isinstance(n, ast.NameRef) and n.name.text in progress
-                           for n in ast.walk(inv.decl.expr))), None)
-    if watched is None or reading is None:
-        return found
-    role, inv = reading
-    name = next(n.name.text for n in ast.walk(inv.decl.expr)
-                if isinstance(n, ast.NameRef) and n.name.text in progress)
-    kept = [d for d in found if not (d.code in ("E601", "W601") and d.span == watched.span)]
-    return kept + [diag.make(
-        codes.PROGRESS_INVARIANT, inv.decl.expr.span,
-        f"this invariant of {role} reads the progress of sequence '{name}': a role whose "
-        f"invariants read state makes every role's discovery one program ({watched.name}, "
-        f"{watched.size} bytes; a packet carries {budget}), which the robot would not receive. "
-        f"Take the role by the shape and test the progress in its behaviours: "
-        f"'if ({name} == N) {{ ... }}' (docs/reconfiguration.md)")]
