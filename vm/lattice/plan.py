@@ -335,11 +335,14 @@ def _opener(link: tuple[int, int, int, int]) -> Op:
     return Op("unlatch", a, pa) if pa % 2 == 0 else Op("unlatch", b, pb)
 
 
-def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2) -> list[list[Op]]:
+def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2,
+           keep_entry: bool = True) -> list[list[Op]]:
     """Macro-steps on ``s`` (restored afterwards): a quarter turn with the fewest unlatches before
     it that let it happen without splitting the robot (at most ``max_cut``; a cut is minimal: no
     smaller cut found for the same turn is part of it), each once without and once with every
-    latch that can close after it."""
+    latch that can close after it. ``keep_entry``: no turn carries the entry module (it defines
+    the frame every module learns its coordinates in, so a sequence that keeps it in place can be
+    run backwards from its end with the same roles)."""
     snap = s.snapshot()
     links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()]
     out: list[list[Op]] = []
@@ -357,7 +360,8 @@ def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2) -> list
                     if not s.rotate(m, q, apply=False).ok:
                         continue
                     cuts.append(set(subset))
-                    s.rotate(m, q)
+                    if s.entry in s.rotate(m, q).moved and keep_entry:
+                        continue
                     ops.append(Op("rotate", m, q))
                     out.append(ops)
                     after = latches(s)
@@ -373,7 +377,8 @@ def _whole(change: object) -> bool:
 
 def plan(start: Structure, target: Structure | Goal | FlatChain, *, max_steps: int = 30,
          max_states: int = 2000, weight: float = 2.0, max_cut: int = 2,
-         actor_cost: float = 0.0, avoid: frozenset[int] = frozenset()) -> Plan:
+         actor_cost: float = 0.0, avoid: frozenset[int] = frozenset(),
+         keep_entry: bool = True) -> Plan:
     """The operations that take ``start`` to the shape of ``target`` (see the module's doc), or a
     Plan with ``ok`` False and why. The search runs over macro-steps (``macros``); a state whose
     cells are the target's is finished by every latch that can close. ``actor_cost``: added for
@@ -406,7 +411,7 @@ def plan(start: Structure, target: Structure | Goal | FlatChain, *, max_steps: i
             return Plan(False, reason=f"no sequence found within {max_states} states "
                         f"(at most {max_steps} steps)", expanded=expanded - 1)
         actors = {op.module for op in ops}
-        for macro in macros(s, max_cut=max_cut):
+        for macro in macros(s, max_cut=max_cut, keep_entry=keep_entry):
             if g + len(macro) > max_steps or any(op.module in avoid for op in macro):
                 continue
             cost = len(macro) + actor_cost * len({op.module for op in macro} - actors)
