@@ -1,10 +1,10 @@
 """Find a reconfiguration sequence in the lattice model and print it as an RDCD ``sequence``
 (docs/reconfiguration.md "Finding a sequence").
 
-    python tools/plan_sequence.py car7 --chain            # car7 lies down into a flat chain
+    python tools/plan_sequence.py car7 --chain --move-entry --irreversible   # a flat chain
     python tools/plan_sequence.py eight7 car7             # the shape of car7, up to turns about z
     python tools/plan_sequence.py START TARGET [--max-states N] [--max-steps N] [--weight W]
-                                  [--max-cut K] [--move-entry]
+                                  [--max-cut K] [--move-entry] [--irreversible]
 
 START and TARGET are configuration names or files (sim/configs). The steps name each acting
 module by a role of its coordinates in START (``role M3 { ... }``): a module keeps the coordinates
@@ -57,6 +57,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--move-entry", action="store_true",
                         help="let turns carry the entry module (the checker and a run backwards "
                              "then learn coordinates in a moved frame)")
+    parser.add_argument("--irreversible", action="store_true",
+                        help="let steps open links between two connectors of one sex (they cannot "
+                             "close again: the sequence cannot be run backwards)")
     parser.add_argument("--name", default="reconfigure")
     args = parser.parse_args(argv)
     if (args.target is None) == (not args.chain):
@@ -66,12 +69,14 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--max-states 1..1000000, --max-steps 1..60, --max-cut 0..4, --weight >= 0")
     try:
         start = load_config(args.start)
-        target = FlatChain(len(start.modules)) if args.chain else load_config(args.target)
+        target = FlatChain(len(start.modules), reversible=not args.irreversible) if args.chain \
+            else load_config(args.target)
     except (ValueError, OSError) as error:
         print(f"plan_sequence: {error}", file=sys.stderr)
         return 2
     found = plan(start, target, max_states=args.max_states, max_steps=args.max_steps,
-                 weight=args.weight, max_cut=args.max_cut, keep_entry=not args.move_entry)
+                 weight=args.weight, max_cut=args.max_cut, keep_entry=not args.move_entry,
+                 reversible=not args.irreversible)
     if not found.ok:
         print(f"plan_sequence: {found.reason} ({found.expanded} states expanded)", file=sys.stderr)
         return 1

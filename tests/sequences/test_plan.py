@@ -43,17 +43,26 @@ def test_the_target_up_to_a_quarter_turn_about_z_and_a_translation() -> None:
 
 
 def test_car_to_a_flat_chain_in_nine_steps() -> None:
-    found = plan(load_config("car7"), FlatChain(7), max_states=300, keep_entry=False)
+    found = plan(load_config("car7"), FlatChain(7, reversible=False), max_states=300,
+                 keep_entry=False, reversible=False)
     assert found.ok and len(found.ops) == 9
     final = replay(load_config("car7"), found.ops)
     assert FlatChain(7).reached(final) and len(final.parts()) == 1
     final.check_invariants()
 
 
+def test_a_reversible_plan_never_opens_a_link_of_one_sex() -> None:
+    car = load_config("car7")  # its axle-wheel links join two male connectors
+    same = {(k.a, k.a_physical) for k in car.links() if (k.a_physical + k.b_physical) % 2 == 0}
+    assert same and all(not (op[-1].kind == "unlatch" and (op[-1].module, op[-1].arg) in same)
+                        for op in macros(car) for op in [op[:i + 1] for i in range(len(op))])
+
+
 def test_no_sequence_within_the_bounds_is_a_clean_answer() -> None:
     found = plan(load_config("eight7"), load_config("car7"), max_states=3)
     assert not found.ok and found.reason == "no sequence found within 3 states (at most 30 steps)"
-    found = plan(load_config("car7"), FlatChain(7), max_steps=2, keep_entry=False)
+    found = plan(load_config("car7"), FlatChain(7, reversible=False), max_steps=2, keep_entry=False,
+                 reversible=False)
     assert not found.ok and found.reason == "no sequence within 2 steps"
 
 
@@ -70,7 +79,8 @@ def test_a_target_of_another_size_or_a_bad_start() -> None:
 
 
 def test_replay_names_the_step_that_cannot_happen() -> None:
-    found = plan(load_config("car7"), FlatChain(7), max_states=300, keep_entry=False)
+    found = plan(load_config("car7"), FlatChain(7, reversible=False), max_states=300,
+                 keep_entry=False, reversible=False)
     with pytest.raises(ValueError, match="step 2"):
         replay(load_config("car7"), [found.ops[0], found.ops[0].inverse(), found.ops[0].inverse()]
                [:1] + [found.ops[2].inverse()])
@@ -78,7 +88,8 @@ def test_replay_names_the_step_that_cannot_happen() -> None:
 
 def test_the_script_prints_a_sequence_and_exit_codes(capsys: pytest.CaptureFixture[str]) -> None:
     tool = _tool()
-    assert tool.main(["car7", "--chain", "--move-entry", "--name", "carToSnake"]) == 0
+    assert tool.main(["car7", "--chain", "--move-entry", "--irreversible", "--name",
+                      "carToSnake"]) == 0
     out = capsys.readouterr().out
     assert "sequence carToSnake(car7) {" in out and out.count("turnQuarters") == 3
     assert tool.main(["eight7", "car7", "--max-states", "2"]) == 1

@@ -159,8 +159,9 @@ class FlatChain:
 
     places: list = []
 
-    def __init__(self, size: int) -> None:
+    def __init__(self, size: int, reversible: bool = True) -> None:
         self.size = size
+        self.reversible = reversible  # never open a link of one sex (see ``macros``)
 
     def aim(self, start: Structure) -> None:
         return None
@@ -196,8 +197,10 @@ class FlatChain:
             return None
         used = {frozenset(p) for p in zip(path, path[1:], strict=False)}
         ops = [op for pair, op in pairs.items() if pair in used and op is not None]
-        ops += [_opener((k.a, k.a_physical, k.b, k.b_physical)) for k in s.links()
-                if frozenset((k.a, k.b)) not in used]
+        extra = [k for k in s.links() if frozenset((k.a, k.b)) not in used]
+        if self.reversible and any((k.a_physical + k.b_physical) % 2 == 0 for k in extra):
+            return None  # a link of one sex would have to open (see ``macros``)
+        ops += [_opener((k.a, k.a_physical, k.b, k.b_physical)) for k in extra]
         snap = s.snapshot()
         if all(_whole(op.apply(s)) for op in ops) and self.reached(s):
             return ops
@@ -336,7 +339,7 @@ def _opener(link: tuple[int, int, int, int]) -> Op:
 
 
 def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2,
-           keep_entry: bool = True) -> list[list[Op]]:
+           keep_entry: bool = True, reversible: bool = True) -> list[list[Op]]:
     """Macro-steps on ``s`` (restored afterwards): a quarter turn with the fewest unlatches before
     it that let it happen without splitting the robot (at most ``max_cut``; a cut is minimal: no
     smaller cut found for the same turn is part of it), each once without and once with every
@@ -344,7 +347,10 @@ def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2,
     the frame every module learns its coordinates in, so a sequence that keeps it in place can be
     run backwards from its end with the same roles)."""
     snap = s.snapshot()
-    links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()]
+    # ``reversible``: a link between two connectors of one sex (a configuration's) never opens:
+    # it could not close again, and the sequence could not be run backwards
+    links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()
+             if not reversible or (k.a_physical + k.b_physical) % 2]
     out: list[list[Op]] = []
     for m in sorted(s.modules):
         for q in turns:
@@ -378,12 +384,13 @@ def _whole(change: object) -> bool:
 def plan(start: Structure, target: Structure | Goal | FlatChain, *, max_steps: int = 30,
          max_states: int = 2000, weight: float = 2.0, max_cut: int = 2,
          actor_cost: float = 0.0, avoid: frozenset[int] = frozenset(),
-         keep_entry: bool = True) -> Plan:
+         keep_entry: bool = True, reversible: bool = True) -> Plan:
     """The operations that take ``start`` to the shape of ``target`` (see the module's doc), or a
     Plan with ``ok`` False and why. The search runs over macro-steps (``macros``); a state whose
     cells are the target's is finished by every latch that can close. ``actor_cost``: added for
     every module that acts for the first time (each acting module costs a role, and a role a
-    program fragment); ``avoid``: modules that never act (the entry, say)."""
+    program fragment); ``avoid``: modules that never act (the entry, say); ``keep_entry`` and
+    ``reversible``: see ``macros`` (a ``FlatChain`` target has its own ``reversible``)."""
     try:
         goal = target if isinstance(target, (Goal, FlatChain)) else Goal(target)
     except (AttributeError, TypeError, ValueError, KeyError) as error:
@@ -411,7 +418,7 @@ def plan(start: Structure, target: Structure | Goal | FlatChain, *, max_steps: i
             return Plan(False, reason=f"no sequence found within {max_states} states "
                         f"(at most {max_steps} steps)", expanded=expanded - 1)
         actors = {op.module for op in ops}
-        for macro in macros(s, max_cut=max_cut, keep_entry=keep_entry):
+        for macro in macros(s, max_cut=max_cut, keep_entry=keep_entry, reversible=reversible):
             if g + len(macro) > max_steps or any(op.module in avoid for op in macro):
                 continue
             cost = len(macro) + actor_cost * len({op.module for op in macro} - actors)
