@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from sim.config import load_config
-from vm.lattice.plan import FlatChain, Goal, canonical, macros, plan, replay
+from vm.lattice.plan import FlatChain, Goal, Op, canonical, macros, plan, replay
 from vm.lattice.structure import ModuleSpec, make_structure
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -56,6 +56,20 @@ def test_a_reversible_plan_never_opens_a_link_of_one_sex() -> None:
     same = {(k.a, k.a_physical) for k in car.links() if (k.a_physical + k.b_physical) % 2 == 0}
     assert same and all(not (op[-1].kind == "unlatch" and (op[-1].module, op[-1].arg) in same)
                         for op in macros(car) for op in [op[:i + 1] for i in range(len(op))])
+
+
+def test_the_reversible_car_to_chain_plan_undone_gives_car7_back_exactly() -> None:
+    # found by tools/plan_sequence.py car7 --chain --move-entry --max-states 20000 (12344 states)
+    ops = [Op("rotate", 1, 1), Op("latch", 3, 6), Op("unlatch", 0, 6), Op("rotate", 3, 1),
+           Op("latch", 0, 6), Op("unlatch", 3, 6), Op("rotate", 5, -1), Op("latch", 5, 0),
+           Op("latch", 6, 4), Op("unlatch", 0, 2), Op("rotate", 0, 1), Op("unlatch", 5, 0)]
+    car = load_config("car7")
+    chain = replay(car, ops)
+    assert FlatChain(7).reached(chain)
+    back = replay(chain, [op.inverse() for op in reversed(ops)])
+    assert {m: s.position for m, s in back.modules.items()} == \
+        {m: s.position for m, s in car.modules.items()}
+    assert back.links() == car.links()
 
 
 def test_no_sequence_within_the_bounds_is_a_clean_answer() -> None:
