@@ -114,3 +114,21 @@ def test_the_script_prints_a_sequence_and_exit_codes(capsys: pytest.CaptureFixtu
         tool.main(["car7"])  # neither a target nor --chain
     with pytest.raises(SystemExit):
         tool.main(["car7", "--chain", "--max-states", "-1"])
+
+
+def test_the_checker_reads_places_in_the_entry_module_s_frame() -> None:
+    from rdcd_core.sequences.roles import entry_frame
+    from vm.lattice.mount import IDENTITY
+
+    car = load_config("car7")
+    assert {m: s.position for m, s in entry_frame(car).items()} == \
+        {m: s.position for m, s in car.modules.items()}
+    moved = replay(car, [Op("rotate", 1, 1), Op("latch", 3, 6), Op("unlatch", 0, 6),
+                         Op("rotate", 3, 1)])  # the last turn carries the entry module
+    assert moved.modules[0].position != (0, 0, 0)
+    seen = entry_frame(moved)
+    assert seen[0].position == (0, 0, 0) and seen[0].axis == 2 and seen[0].mount == IDENTITY
+    # distances between modules are what they are in the structure
+    for m in moved.modules:
+        d = [a - b for a, b in zip(moved.modules[m].position, moved.modules[0].position, strict=True)]
+        assert sorted(map(abs, d)) == sorted(map(abs, seen[m].position))
