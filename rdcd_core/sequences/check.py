@@ -18,7 +18,7 @@ from rdcd_core.module_api import ACTIONS
 from rdcd_core.semantics.model import Model
 from rdcd_core.sequences import codes
 from rdcd_core.sequences.limits import progress_limit
-from rdcd_core.sequences.roles import environment, evaluate, find_roles
+from rdcd_core.sequences.roles import entry_frame, environment, evaluate, find_roles
 from rdcd_core.syntax import ast
 
 STEP_ACTIONS = ("connect", "disconnect", "turnQuarters", "waitUntil")
@@ -144,7 +144,7 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
     happen (the structure after it is not known)."""
     current = structure.copy()
     trace = Trace(start=structure)
-    learned = dict(structure.modules)  # what each module knows of its place (roles.py)
+    learned = entry_frame(structure)  # what each module knows of its place (roles.py)
     order = stages(sequence)
     if reverse:
         order = [tuple(reversed(stage)) for stage in reversed(order)]

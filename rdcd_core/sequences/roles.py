@@ -229,6 +229,28 @@ def find_roles(model: Model, structure: Structure, learned: dict[int, Any] | Non
     return roles, uncertain
 
 
+def entry_frame(structure: Structure) -> dict[int, Any]:
+    """Every module's place as the modules learn it: in the entry module's frame (the entry is the
+    origin, NORTH_SOUTH, identity mount, wherever it is). Equal to the structure's own places for
+    a configuration; not for a structure some steps have left with the entry moved or turned (the
+    end of a sequence, where a run backwards starts)."""
+    from dataclasses import replace
+
+    from vm.lattice.geometry import placement
+    from vm.lattice.motion import compose, orientation_of
+
+    entry = structure.modules[structure.entry]
+    turn = placement(entry.axis, entry.mount)
+    back = tuple(tuple(turn[j][i] for j in range(3)) for i in range(3))  # the inverse: transposed
+    out = {}
+    for mid, spec in structure.modules.items():
+        d = tuple(a - b for a, b in zip(spec.position, entry.position, strict=True))
+        position = tuple(sum(back[i][j] * d[j] for j in range(3)) for i in range(3))
+        axis, mount = orientation_of(compose(back, placement(spec.axis, spec.mount)))  # type: ignore[arg-type]
+        out[mid] = replace(spec, position=position, axis=axis, mount=mount)
+    return out
+
+
 def environment(model: Model, structure: Structure, roles: dict[int, str | None],
                 learned: dict[int, Any] | None = None) -> _Env:
     return _Env(model, structure, roles, learned)

@@ -15,6 +15,8 @@ from the south hemisphere). With this rule and the shipped mounts, the obstacle 
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from vm import navigation
 from vm.lattice.mount import Mount
 
@@ -27,6 +29,7 @@ def body_direction(physical: int) -> Vec:
     return navigation.offset(navigation.NORTH_SOUTH, physical)
 
 
+@lru_cache(maxsize=64)  # 3 axes x 8 mounts; pure
 def placement(axis: int, mount: Mount) -> Matrix:
     """Rotation R (rows) with R @ body_direction(p) = the structure-frame offset of connector p."""
     def world(p: int) -> Vec:

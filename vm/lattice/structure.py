@@ -16,6 +16,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from typing import Any
 
 from vm import navigation
@@ -62,6 +63,7 @@ class Snapshot:
     version: int
 
 
+@lru_cache(maxsize=8192)  # pure in a frozen spec; planners and the checker call it often
 def directions(spec: ModuleSpec) -> tuple[Vec, ...]:
     """Structure-frame offset each physical connector 0..7 faces (the north ring turned by the
     joint's quarters about the module's north axis)."""
