@@ -568,3 +568,32 @@ def guided(start: Structure, target: Structure | Goal, actors: Iterable[int], *,
         return Plan(True, found, expanded=visits, final=s.copy())
     return Plan(False, reason=f"no sequence with these turns within {visits} states (closest: "
                 f"{best[0]:g} lattice steps away after turn {-best[1]})", expanded=visits)
+
+
+def prune(start: Structure, ops: list[Op], target: Structure | Goal) -> list[Op]:
+    """``ops`` without the latches that a later step opens again when leaving both out still
+    replays and reaches ``target`` (a search that latches every link it can makes some)."""
+    goal = target if isinstance(target, Goal) else Goal(target)
+    out = list(ops)
+    i = 0
+    while i < len(out):
+        op = out[i]
+        if op.kind == "latch":
+            s = replay(start, out[:i])
+            op.apply(s)
+            link = next((k for k in s.links() if (k.a, k.a_physical) == (op.module, op.arg)
+                         or (k.b, k.b_physical) == (op.module, op.arg)), None)
+            later = None if link is None else next(
+                (j for j in range(i + 1, len(out)) if out[j].kind == "unlatch" and
+                 (out[j].module, out[j].arg) in ((link.a, link.a_physical), (link.b, link.b_physical))),
+                None)
+            if later is not None:
+                shorter = out[:i] + out[i + 1:later] + out[later + 1:]
+                try:
+                    if goal.reached(replay(start, shorter)):
+                        out = shorter
+                        continue
+                except ValueError:
+                    pass
+        i += 1
+    return out
