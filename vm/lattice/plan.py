@@ -468,10 +468,11 @@ def replay(start: Structure, ops: Iterable[Op]) -> Structure:
 # ---- a search guided by a known sequence's actors ---------------------------------------------
 def _turn_steps(s: Structure, m: int, q: int, max_cut: int, reversible: bool,
                 early_latches: bool = False) -> list[list[Op]]:
-    """The ways one quarter turn of ``m`` by ``q`` can happen on ``s`` (restored afterwards): with
-    or without every latch that can close first (a module to be carried is latched on before its
-    old links open), a minimal cut of at most ``max_cut`` links, the turn (default moving side, as
-    a sequence's ``turnQuarters`` does), then with or without every latch that closes after it."""
+    """The ways one quarter turn of ``m`` by ``q`` can happen on ``s`` (restored afterwards): a
+    minimal cut of at most ``max_cut`` links, the turn (default moving side, as a sequence's
+    ``turnQuarters`` does), then with or without every latch that closes after it; with
+    ``early_latches`` also each of these after every latch that can close first (off by default:
+    the previous turn's latches mostly make the same ones, and it doubles the branching)."""
     snap = s.snapshot()
     out: list[list[Op]] = []
     early = latches(s) if early_latches else []
@@ -504,7 +505,7 @@ def _turn_steps(s: Structure, m: int, q: int, max_cut: int, reversible: bool,
 
 def guided(start: Structure, target: Structure | Goal, actors: Iterable[int], *,
            signs: Iterable[int] = (1, -1), skeleton_signs: Iterable[int] = (), max_cut: int = 3,
-           max_states: int = 20000, reversible: bool = True) -> Plan:
+           max_states: int = 20000, reversible: bool = True, early_latches: bool = False) -> Plan:
     """A sequence whose quarter turns are made by ``actors`` in that order (a known solution's
     skeleton, e.g. USSR's eight-to-car), the search choosing for each turn its sign (the known
     solution's sign convention may differ), the latches before it, the links it must open and
@@ -548,7 +549,7 @@ def guided(start: Structure, target: Structure | Goal, actors: Iterable[int], *,
         children = []  # the skeleton's sign first, then the closest to the target, the shortest
         first = order_signs[i] if order_signs else 0
         for q in sorted(signs, key=lambda q: q != first):
-            for steps in _turn_steps(s, order[i], q, max_cut, reversible):
+            for steps in _turn_steps(s, order[i], q, max_cut, reversible, early_latches):
                 s.restore(snap)
                 for op in steps:
                     op.apply(s)
