@@ -5,6 +5,8 @@
     python tools/plan_sequence.py eight7 car7             # the shape of car7, up to turns about z
     python tools/plan_sequence.py START TARGET [--max-states N] [--max-steps N] [--weight W]
                                   [--max-cut K] [--move-entry] [--irreversible]
+    python tools/plan_sequence.py eight7 car7 --guide 3,4,1,4,6,0,1,0,1,3,1 \
+        --guide-signs=-1,-1,-1,1,1,-1,1,1,1,1,1     # turns by these modules in this order (USSR's)
 
 START and TARGET are configuration names or files (sim/configs). The steps name each acting
 module by a role of its coordinates in START (``role M3 { ... }``): a module keeps the coordinates
@@ -23,7 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from sim.config import load_config  # noqa: E402
 from vm import navigation  # noqa: E402
-from vm.lattice.plan import FlatChain, Op, plan  # noqa: E402
+from vm.lattice.plan import FlatChain, Op, guided, plan, prune  # noqa: E402
 
 AXIS_WORDS = {navigation.EAST_WEST: "EAST_WEST", navigation.NORTH_SOUTH: "NORTH_SOUTH",
               navigation.UP_DOWN: "UP_DOWN"}
@@ -60,6 +62,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--irreversible", action="store_true",
                         help="let steps open links between two connectors of one sex (they cannot "
                              "close again: the sequence cannot be run backwards)")
+    parser.add_argument("--guide", help="comma-separated modules that make the quarter turns, in "
+                        "order (a known solution's skeleton; implies --move-entry, --max-cut 3 "
+                        "unless given)")
+    parser.add_argument("--guide-signs", help="comma-separated signs of those turns, tried first")
     parser.add_argument("--name", default="reconfigure")
     args = parser.parse_args(argv)
     if (args.target is None) == (not args.chain):
@@ -74,9 +80,23 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, OSError) as error:
         print(f"plan_sequence: {error}", file=sys.stderr)
         return 2
-    found = plan(start, target, max_states=args.max_states, max_steps=args.max_steps,
-                 weight=args.weight, max_cut=args.max_cut, keep_entry=not args.move_entry,
-                 reversible=not args.irreversible)
+    if args.guide is not None:
+        try:
+            actors = [int(v) for v in args.guide.split(",")]
+            signs = [int(v) for v in args.guide_signs.split(",")] if args.guide_signs else []
+        except ValueError:
+            parser.error("--guide and --guide-signs take comma-separated integers")
+        if len(actors) > 60 or isinstance(target, FlatChain) or any(v not in (1, -1) for v in signs):
+            parser.error("--guide: at most 60 turns, a TARGET configuration, signs 1 or -1")
+        cut = args.max_cut if "--max-cut" in " ".join(argv or sys.argv) else 3
+        found = guided(start, target, actors, skeleton_signs=signs, max_cut=cut,
+                       max_states=args.max_states, reversible=not args.irreversible)
+        if found.ok:
+            found.ops = prune(start, found.ops, target)
+    else:
+        found = plan(start, target, max_states=args.max_states, max_steps=args.max_steps,
+                     weight=args.weight, max_cut=args.max_cut, keep_entry=not args.move_entry,
+                     reversible=not args.irreversible)
     if not found.ok:
         print(f"plan_sequence: {found.reason} ({found.expanded} states expanded)", file=sys.stderr)
         return 1

@@ -463,3 +463,138 @@ def replay(start: Structure, ops: Iterable[Op]) -> Structure:
             raise ValueError(f"step {i + 1} ({op.kind} {op.module} {op.arg}): "
                              f"{getattr(change, 'reason', '')}")
     return s
+
+
+# ---- a search guided by a known sequence's actors ---------------------------------------------
+def _turn_steps(s: Structure, m: int, q: int, max_cut: int, reversible: bool,
+                early_latches: bool = False) -> list[list[Op]]:
+    """The ways one quarter turn of ``m`` by ``q`` can happen on ``s`` (restored afterwards): a
+    minimal cut of at most ``max_cut`` links, the turn (default moving side, as a sequence's
+    ``turnQuarters`` does), then with or without every latch that closes after it; with
+    ``early_latches`` also each of these after every latch that can close first (off by default:
+    the previous turn's latches mostly make the same ones, and it doubles the branching)."""
+    snap = s.snapshot()
+    out: list[list[Op]] = []
+    early = latches(s) if early_latches else []
+    for before in ([], early) if early else ([],):
+        s.restore(snap)
+        for op in before:
+            op.apply(s)
+        base = s.snapshot()
+        links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()
+                 if not reversible or (k.a_physical + k.b_physical) % 2]
+        cuts: list[set] = []
+        for r in range(max_cut + 1):
+            for subset in itertools.combinations(links, r):
+                if any(c <= set(subset) for c in cuts):
+                    continue
+                s.restore(base)
+                ops = [_opener(link) for link in subset]
+                if not all(_whole(op.apply(s)) for op in ops) or not s.rotate(m, q, apply=False).ok:
+                    continue
+                cuts.append(set(subset))
+                s.rotate(m, q)
+                steps = [*before, *ops, Op("rotate", m, q)]
+                out.append(steps)
+                after = latches(s)
+                if after:
+                    out.append(steps + after)
+    s.restore(snap)
+    return out
+
+
+def guided(start: Structure, target: Structure | Goal, actors: Iterable[int], *,
+           signs: Iterable[int] = (1, -1), skeleton_signs: Iterable[int] = (), max_cut: int = 3,
+           max_states: int = 20000, reversible: bool = True, early_latches: bool = False) -> Plan:
+    """A sequence whose quarter turns are made by ``actors`` in that order (a known solution's
+    skeleton, e.g. USSR's eight-to-car), the search choosing for each turn its sign (the known
+    solution's sign convention may differ), the latches before it, the links it must open and
+    the latches after it (``_turn_steps``). Depth first over the turns, one visit per state and
+    turn; a state whose cells are the target's after the last turn is finished by its latches.
+    Bounded by ``max_states`` visits; ``Plan.reason`` says how close it came otherwise."""
+    try:
+        goal = target if isinstance(target, Goal) else Goal(target)
+    except (AttributeError, TypeError, ValueError, KeyError) as error:
+        return Plan(False, reason=f"not a target structure: {error}")
+    if not isinstance(start, Structure):
+        return Plan(False, reason="not a start structure")
+    order = list(actors)
+    order_signs = list(skeleton_signs)
+    if order_signs and len(order_signs) != len(order):
+        return Plan(False, reason="give one skeleton sign per actor, or none")
+    if goal.size != len(start.modules) or any(m not in start.modules for m in order):
+        return Plan(False, reason="the target's modules or the actors are not the start's")
+    s = start.copy()
+    if not goal.places:
+        goal.aim(s)
+    seen: set = set()
+    visits = 0
+    best: tuple[float, int] = (float("inf"), 0)
+
+    def search(i: int, ops: tuple[Op, ...]) -> list[Op] | None:
+        nonlocal visits, best
+        key = (_key(s), i)
+        if key in seen or visits >= max_states:
+            return None
+        seen.add(key)
+        visits += 1
+        snap = s.snapshot()
+        if i == len(order):
+            done = _finish(s, goal)
+            if done is not None:
+                return [*ops, *done]
+            best = min(best, (goal.estimate(s), -i))
+            return None
+        best = min(best, (goal.estimate(s), -i))
+        children = []  # the skeleton's sign first, then the closest to the target, the shortest
+        first = order_signs[i] if order_signs else 0
+        for q in sorted(signs, key=lambda q: q != first):
+            for steps in _turn_steps(s, order[i], q, max_cut, reversible, early_latches):
+                s.restore(snap)
+                for op in steps:
+                    op.apply(s)
+                children.append((q != first, goal.estimate(s), len(steps), len(children), steps))
+        for *_, steps in sorted(children, key=lambda c: c[:4]):
+            s.restore(snap)
+            for op in steps:
+                op.apply(s)
+            found = search(i + 1, (*ops, *steps))
+            if found is not None:
+                return found
+        s.restore(snap)
+        return None
+
+    found = search(0, ())
+    if found is not None:
+        return Plan(True, found, expanded=visits, final=s.copy())
+    return Plan(False, reason=f"no sequence with these turns within {visits} states (closest: "
+                f"{best[0]:g} lattice steps away after turn {-best[1]})", expanded=visits)
+
+
+def prune(start: Structure, ops: list[Op], target: Structure | Goal) -> list[Op]:
+    """``ops`` without the latches that a later step opens again when leaving both out still
+    replays and reaches ``target`` (a search that latches every link it can makes some)."""
+    goal = target if isinstance(target, Goal) else Goal(target)
+    out = list(ops)
+    i = 0
+    while i < len(out):
+        op = out[i]
+        if op.kind == "latch":
+            s = replay(start, out[:i])
+            op.apply(s)
+            link = next((k for k in s.links() if (k.a, k.a_physical) == (op.module, op.arg)
+                         or (k.b, k.b_physical) == (op.module, op.arg)), None)
+            later = None if link is None else next(
+                (j for j in range(i + 1, len(out)) if out[j].kind == "unlatch" and
+                 (out[j].module, out[j].arg) in ((link.a, link.a_physical), (link.b, link.b_physical))),
+                None)
+            if later is not None:
+                shorter = out[:i] + out[i + 1:later] + out[later + 1:]
+                try:
+                    if goal.reached(replay(start, shorter)):
+                        out = shorter
+                        continue
+                except ValueError:
+                    pass
+        i += 1
+    return out
