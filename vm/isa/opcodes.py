@@ -253,6 +253,7 @@ COMMANDS = frozenset(BUILTIN_COMMANDS) | frozenset(USER_COMMAND_NUMBERS)
 
 # What the joint accepts, checked by the checker for a constant (E210, E211) and by TURN_STACK,
 # TURN_TO_STACK, TURN_BY_STACK and SLEEP_ROTATIONS_STACK for a value known only at run time.
+TABLE_VALUES = (0, 127, 1)  # TABLE's entries: one byte each, 128 + v (a push that never runs)
 SPEEDS = (-127, 127)  # turnContinuously: -128 has no opposite speed (-(-128) saturates to 127)
 ANGLES_TO = (-180, 170)  # turnTowards: a multiple of 10 (ANGLE_STEP)
 ANGLES_BY = (-1280, 1270)  # turnDegrees: a multiple of 10, the operand of ROTATE_DEGREES in tens
