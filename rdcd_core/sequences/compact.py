@@ -9,11 +9,12 @@ module alike, the relay of R also reads its step code at the progress S::
 
 with k0..k1 R's first and last steps; e = key * 14 + a (0: not R's step), where key is the value
 of the condition's left side that names the module (``R(E == key)``, 0..8; 0 without a condition)
-and a the action: connect(c) 1 + c/2, disconnect(c) 5 + c/2 (male c 0..6), turnQuarters(n)
-11 + n (n = -2, -1, 1, 2). One behaviour per kind of action then acts when the key is its own::
+and a the action: disconnect(c) 1 + c/2, connect(c) 5 + c/2 (male c 0..6), turnQuarters(n)
+11 + n (n = -2, -1, 1, 2). The relay then keeps a only on the module whose key it is
+(``if (S_t / 14 != E) { S_t := 0; } S_t := S_t % 14;``), and one behaviour per kind of action
+acts on its codes, told apart by one comparison (S_t >= 0)::
 
-    if (S_t / 14 == E && S_t % 14 > 4 && S_t % 14 < 9) {
-      if (self.disconnect(S_t % 14 * 2 - 10)) { S := S + 1; S_t := 0; } }
+    if ((S_t + 3) / 4 == 1) { if (self.disconnect(S_t * 2 - 2)) { S := S + 1; S_t := 0; } }
 
 Only the module of step S can move the progress past S, so the code it read stays the code of the
 step until it acts; ``S_t := 0`` keeps a second run before the next read from acting twice. A
@@ -32,10 +33,12 @@ from rdcd_core.syntax import ast
 CODES = 14  # a in 1..13; key * 14 + 13 <= 127 for a key up to 8
 MAX_KEY = (127 - (CODES - 1)) // CODES
 TURNS = (-2, -1, 1, 2)
-KINDS = {  # the test of the code a = S_t % 14 and the argument it gives
-    "connect": ("{m} > 0 && {m} < 5", "{m} * 2 - 2"),
-    "disconnect": ("{m} > 4 && {m} < 9", "{m} * 2 - 10"),
-    "turnQuarters": ("{m} > 8", "{m} - 11"),
+# entries of a table statement, the first after the relay: each statement fits a fragment's part
+FIRST, CHUNK = 9, 16
+KINDS = {  # which codes a kind has (one comparison, exact for any S_t) and its argument
+    "disconnect": ("({t} + 3) / 4 == 1", "{t} * 2 - 2"),  # 1..4
+    "connect": ("({t} - 1) / 4 == 1", "{t} * 2 - 10"),  # 5..8
+    "turnQuarters": ("({t} + 1) / 5 == 2", "{t} - 11"),  # 9, 10, 12, 13
 }
 
 
@@ -66,15 +69,15 @@ def _key(step: ast.SeqStep) -> tuple[str | None, int] | None:
 
 def _code(action: str, arg: int) -> int | None:
     if action in ("connect", "disconnect") and arg in (0, 2, 4, 6):
-        return (1 if action == "connect" else 5) + arg // 2
+        return (5 if action == "connect" else 1) + arg // 2
     if action == "turnQuarters" and arg in TURNS:
         return 11 + arg
     return None
 
 
 def role_table(name: str, steps: list[ast.SeqStep], role: str,
-               reverse: bool) -> tuple[str, list[tuple[str, Span]]] | None:
-    """(the table read for the relay, the behaviours that act) of ``role``'s steps, None when one
+               reverse: bool) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
+    """(the table read after the relay, the key's startup statement, the behaviours that act) of ``role``'s steps, None when one
     of them has no compact code (its condition is not ``E == key``, or another E, or an argument
     outside the codes)."""
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
@@ -103,17 +106,25 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
         return None
     k0, k1 = mine[0][0], mine[-1][0]
     t = f"{name}_t"
-    values = ", ".join(str(entries.get(k, 0)) for k in range(k0, k1 + 1))
-    index = f"{name} - {k0}" if k0 else name
-    read = f"{t} := table({index}, {values});"
     side = left.pop()
-    who = f"{t} / {CODES} == {side if side is not None else 0}"
-    m = f"{t} % {CODES}"
+    k = f"{name}_k"
+    reads = []  # the first statement follows the relay in the behaviour's first part
+    start = k0
+    while start <= k1:
+        end = min(start + (FIRST if start == k0 else CHUNK), k1 + 1)
+        values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
+        index = f"{name} - {start}" if start else name
+        reads.append(f"{t} := table({index}, {values}){f' - {k}' if side else ''};" if start == k0
+                     else f"{t} := {t} + table({index}, {values});")  # one index in its table
+        start = end
+    read = " ".join(reads)
+    # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
+    # only; on the others 14 or more away (or <= 0)
+    startup = f"{k} := ({side}) * {CODES};" if side else None
     acts = []
     for action, span in kinds.items():
         test, arg_text = KINDS[action]
-        test = f" && {test.format(m=m)}"  # also when alone: code 0 (not my step) never acts
-        acts.append((f"behavior {t}_{role}_{action}() {{ if ({who}{test}) {{ "
-                     f"if (self.{action}({arg_text.format(m=m)})) {{ {name} := {name} + 1; {t} := 0; }} }} }}",
+        acts.append((f"behavior {t}_{role}_{action}() {{ if ({test.format(t=t)}) {{ "
+                     f"if (self.{action}({arg_text.format(t=t)})) {{ {name} := {name} + 1; {t} := 0; }} }} }}",
                      span))
-    return read, acts
+    return read, startup, acts

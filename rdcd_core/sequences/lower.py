@@ -111,8 +111,12 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
               and (found := role_table(name, steps, role, reverse)) is not None}
     out: dict[str, list[tuple[str, Span]]] = {
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); "
-                f"{tables[role][0] if role in tables else ''} }}", sequence.header_span),
-               *(tables[role][1] if role in tables else ())] for role in deployed}
+                f"{tables[role][0] if role in tables else ''} }}", sequence.header_span)]
+        for role in deployed}
+    for role, (_, startup, acts) in tables.items():  # the module's key, the kinds of action
+        if startup is not None:
+            out[role].append((f"startup {name}_k_{role}() {{ {startup} }}", sequence.header_span))
+        out[role] += acts
     by_role: dict[str, list[tuple[str, Span, bool]]] = {}  # code, span, in a behaviour alone
 
     def add(step: ast.SeqStep, code: str | None, alone: bool) -> None:
@@ -177,7 +181,9 @@ def lower(program: ast.Program, reverse: str | None = None, compact: bool = Fals
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
                                 reverse == name, compact)
         if compact and applies(sequence) and not any(s.name.text == f"{name}_t" for s in program.states):
-            states.append(_respan(_state(f"{name}_t"), sequence.name.span))  # see compact.py
+            for added in (f"{name}_t", f"{name}_k"):  # see compact.py
+                if not any(s.name.text == added for s in states):
+                    states.append(_respan(_state(added), sequence.name.span))
         for role, items in generated.items():
             for text, span in items:
                 parsed = parse(f"role G {{ {text} }} deployment {{ G }}")
