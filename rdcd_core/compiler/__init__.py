@@ -89,12 +89,13 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
         from rdcd_core.sequences.limits import slot_limit
 
         over = slot_limit(model, planner.fragments, chosen.program_slots)
-        if over and not compact and chosen.implements_name("TABLE"):
-            # too many fragments: the steps as tables (rdcd_core/sequences/compact.py), kept if
-            # that fits better; a program that fits keeps its ordinary form, byte for byte
+        failed = over or any(d.severity is diag.Severity.ERROR for d in found)
+        if failed and not compact and chosen.implements_name("TABLE"):
+            # too many fragments, or too large: the steps as tables (rdcd_core/sequences/compact.py),
+            # kept if that compiles; a program that compiles keeps its ordinary form, byte for byte
             smaller = compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
                                     reverse=reverse, compact=True)
-            if smaller.fragments and len(smaller.fragments) < len(planner.fragments):
+            if smaller.fragments and not smaller.has_errors:
                 return smaller
         found.extend(over)
     found.extend(mixin_methods(model))
