@@ -195,7 +195,8 @@ def _check_args(env: Env, call: ast.SelfCall | ast.FunctionCall, primitive: Prim
     if primitive.variadic and len(args) >= len(params):
         return _check_table(env, primitive, args)
     if len(args) != len(params):
-        expected = f"{len(params)} argument{'s' if len(params) != 1 else ''}"
+        expected = ("at least " if primitive.variadic else "") + \
+            f"{len(params)} argument{'s' if len(params) != 1 else ''}"
         env.ctx.report(codes.ARG_COUNT, call.span,
                        f"'{primitive.name}' takes {expected}, not {len(args)}: {primitive.signature}")
     if primitive.name == "assumeRole" and len(args) == 2:
