@@ -49,7 +49,8 @@ class Primitive:
 
     @property
     def signature(self) -> str:
-        params = ", ".join(f"{p.name}: {p.type.value}" for p in self.params) + (", ..." if self.variadic else "")
+        params = ", ".join(f"{p.name}: {p.type.value}" for p in self.params)
+        params += ", ..." if self.variadic else ""
         prefix = "self." if self.form is CallForm.SELF else ""
         return f"{prefix}{self.name}({params}) -> {self.result.value}"
 

@@ -77,9 +77,9 @@ def _code(action: str, arg: int) -> int | None:
 
 def role_table(name: str, steps: list[ast.SeqStep], role: str,
                reverse: bool) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
-    """(the table read after the relay, the key's startup statement, the behaviours that act) of ``role``'s steps, None when one
-    of them has no compact code (its condition is not ``E == key``, or another E, or an argument
-    outside the codes)."""
+    """(the table read after the relay, the key's startup statement, the behaviours that act) of
+    ``role``'s steps, None when one of them has no compact code (its condition is not
+    ``E == key``, or another E, or an argument outside the codes)."""
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
     if not mine:
         return None
@@ -124,7 +124,7 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
     acts = []
     for action, span in kinds.items():
         test, arg_text = KINDS[action]
+        done = f"{name} := {name} + 1; {t} := 0;"
         acts.append((f"behavior {t}_{role}_{action}() {{ if ({test.format(t=t)}) {{ "
-                     f"if (self.{action}({arg_text.format(t=t)})) {{ {name} := {name} + 1; {t} := 0; }} }} }}",
-                     span))
+                     f"if (self.{action}({arg_text.format(t=t)})) {{ {done} }} }} }}", span))
     return read, startup, acts
