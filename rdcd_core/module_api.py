@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from rdcd_core.types import Type
-from vm.isa.opcodes import ANGLE_STEP, ANGLES_BY, ANGLES_TO, SPEEDS, TURNS
+from vm.isa.opcodes import ANGLE_STEP, ANGLES_BY, ANGLES_TO, SPEEDS, TABLE_VALUES, TURNS
 
 
 class CallForm(StrEnum):
@@ -33,6 +33,7 @@ class Primitive:
     # outside them (E210, E211) and the VM's stack instruction a value known only at run time.
     values: tuple[int, int, int] | None = None
     runtime_op: str | None = None  # the instruction that takes a value known only at run time
+    variadic: bool = False  # the last parameter repeats (at least once): table(i, v0, v1, ...)
 
     @property
     def is_query(self) -> bool:
@@ -49,6 +50,7 @@ class Primitive:
     @property
     def signature(self) -> str:
         params = ", ".join(f"{p.name}: {p.type.value}" for p in self.params)
+        params += ", ..." if self.variadic else ""
         prefix = "self." if self.form is CallForm.SELF else ""
         return f"{prefix}{self.name}({params}) -> {self.result.value}"
 
@@ -124,6 +126,11 @@ PRIMITIVES: tuple[Primitive, ...] = (
     Primitive("max", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
               "The larger of a and b; max(neighbours.s): the largest value of module state s that a "
               "neighbour published (-128 when none has).", aggregate=True),
+    Primitive("table", _F, (_p("i", Type.INT), _p("v", Type.INT)), Type.INT,
+              "The value v_i of the constants v0, v1, ... (each 0..127), 0 when i is outside "
+              "0..n-1: table(S - 3, 1, 0, 9). One byte a value (the DCD-VM's TABLE, an extension); "
+              "compact sequences read their steps' actions with it (docs/reconfiguration.md).",
+              variadic=True, values=TABLE_VALUES),
     Primitive("count", _F, (_p("v", Type.VALUES),), Type.INT,
               "How many neighbours have published a value of the state: count(neighbours.s)."),
     Primitive("sum", _F, (_p("v", Type.VALUES),), Type.INT,

@@ -376,6 +376,10 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
     elif name == "RUN_LOCAL":
         frame.at = at
         m.run_local(_embedded(frame, a[0], a[1]))
+    elif name == "TABLE":  # a step's action code by the progress (rdcd_core/sequences/lower.py)
+        data = _embedded(frame, a[0], a[1])
+        i = _pop(frame)
+        _push(frame, data[i] - PUSH_SMALL_BASE if 0 <= i < len(data) else 0, target)
     elif name == "CONTINUE_COMMAND":  # a fragment's code that did not fit goes on elsewhere
         code = m.command_code(a[0])
         if code is None:

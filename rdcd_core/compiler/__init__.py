@@ -41,7 +41,7 @@ __all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_li
 
 def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
                   text: str | None = None, target: Target | str | None = None,
-                  reverse: str | None = None) -> CompiledProgram:
+                  reverse: str | None = None, compact: bool = False) -> CompiledProgram:
     """Compiles a checked model for ``target`` (a ``vm.isa.targets`` description or its name;
     default: this project's VM; ``strict_isa`` is the old name of the original target). With
     errors in the model, returns an empty program.
@@ -56,7 +56,13 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if model.program.sequences:  # compiled as state and behaviours (rdcd_core/sequences/lower.py)
         from rdcd_core.sequences.lower import lowered_model
 
-        model = lowered_model(model, reverse)
+        original = model
+        model = lowered_model(model, reverse, compact)
+        if model.has_errors and not compact and chosen.implements_name("TABLE"):
+            tables = lowered_model(original, reverse, True)  # too many behaviours for a role (E121)?
+            if not tables.has_errors:
+                return compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
+                                     reverse=reverse, compact=True)
         if model.has_errors:
             errors = [d for d in model.diagnostics if d.severity is diag.Severity.ERROR]
             return CompiledProgram([], [], [], packet_budget, errors, target=chosen.name)
@@ -82,7 +88,16 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
     if model.program.sequences:  # fragments a module keeps while they spread (E805)
         from rdcd_core.sequences.limits import slot_limit
 
-        found.extend(slot_limit(model, planner.fragments, chosen.program_slots))
+        over = slot_limit(model, planner.fragments, chosen.program_slots)
+        failed = over or any(d.severity is diag.Severity.ERROR for d in found)
+        if failed and not compact and chosen.implements_name("TABLE"):
+            # too many fragments, or too large: the steps as tables (rdcd_core/sequences/compact.py),
+            # kept if that compiles; a program that compiles keeps its ordinary form, byte for byte
+            smaller = compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
+                                    reverse=reverse, compact=True)
+            if smaller.fragments and not smaller.has_errors:
+                return smaller
+        found.extend(over)
     found.extend(mixin_methods(model))
     if not any(d.severity is diag.Severity.ERROR for d in found):  # errors make bad code
         found.extend(verify_fragments(planner.fragments, chosen))

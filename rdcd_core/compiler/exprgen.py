@@ -9,7 +9,7 @@ from rdcd_core.compiler.compare import cjump_compare
 from rdcd_core.compiler.context import Context
 from rdcd_core.compiler.fold import fold, type_of
 from rdcd_core.compiler.geometry import DIRECTION_NAMES, ROLE_DIRECTION_OPS
-from rdcd_core.compiler.ir import Ins, Item, Label
+from rdcd_core.compiler.ir import Body, Ins, Item, Label
 from rdcd_core.syntax import ast
 from rdcd_core.types import PREDEFINED_VALUES, Type
 from vm.isa.opcodes import AGGREGATES, WHERE_ALL, WHERE_CHILDREN, WHERE_CONNECTOR
@@ -199,6 +199,13 @@ def _function(expr: ast.FunctionCall, ctx: Context, out: list[Item]) -> None:
         op = expr.name.text.upper()
         ctx.ext(op, expr.span)
         emit(out, op, span=expr.span)
+    elif expr.name.text == "table" and len(expr.args) >= 2:
+        # the values after the fragment's code, one byte each (vm.isa.opcodes TABLE)
+        value(expr.args[0], ctx, out)
+        entries = [const_arg(arg, ctx, "a value of 'table'") or 0 for arg in expr.args[1:]]
+        ctx.ext("TABLE", expr.span)
+        emit(out, "TABLE", Body([Ins("PUSH", (v & 0x7F,), expr.span) for v in entries]),
+             span=expr.span)
     elif expr.name.text == "connected_role" and len(expr.args) == 2:
         direction = const_arg(expr.args[0], ctx, "the direction")
         role = const_arg(expr.args[1], ctx, "the role")

@@ -192,8 +192,11 @@ def _check_args(env: Env, call: ast.SelfCall | ast.FunctionCall, primitive: Prim
             primitive.aggregate or (params and params[0].type is Type.VALUES)):
         states.check_values(env, ast.unparen(args[0]))  # type: ignore[arg-type]
         return primitive.result, None
+    if primitive.variadic and len(args) >= len(params):
+        return _check_table(env, primitive, args)
     if len(args) != len(params):
-        expected = f"{len(params)} argument{'s' if len(params) != 1 else ''}"
+        expected = ("at least " if primitive.variadic else "") + \
+            f"{len(params)} argument{'s' if len(params) != 1 else ''}"
         env.ctx.report(codes.ARG_COUNT, call.span,
                        f"'{primitive.name}' takes {expected}, not {len(args)}: {primitive.signature}")
     if primitive.name == "assumeRole" and len(args) == 2:
@@ -257,6 +260,24 @@ def _check_connector(env: Env, name: str, arg: ast.Arg, connector: int) -> None:
                        f"{name}; use {connector - 1} or {(connector + 1) % 8}, or have the neighbour's male "
                        "connector act")
 
+
+
+def _check_table(env: Env, primitive: Primitive, args: tuple) -> Result:
+    """table(i, v0, ...): an index known at run time and constants 0..127 (one byte each)."""
+    _check_arg(env, primitive, 0, args[0])
+    low, high, _ = primitive.values  # type: ignore[misc]
+    for arg in args[1:]:
+        value = _check_arg(env, primitive, 1, arg)
+        if isinstance(arg, ast.Block):
+            continue
+        if value is None:
+            env.ctx.report(codes.NOT_CONSTANT, arg.span,
+                           f"the values of '{primitive.name}' must be constants {low}..{high}")
+        elif not low <= value.value <= high:
+            env.ctx.report(codes.BAD_JOINT_VALUE, arg.span,
+                           f"'{primitive.name}' holds values {low}..{high} (one byte each), not "
+                           f"{value.value}{expressions.where(env, arg)}")
+    return primitive.result, None
 
 
 def _check_range(env: Env, primitive: Primitive, arg: ast.Arg, value: int) -> None:

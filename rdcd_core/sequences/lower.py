@@ -32,6 +32,7 @@ from typing import Any
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS, stages
+from rdcd_core.sequences.compact import applies, role_table
 from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -101,19 +102,29 @@ def ordered_steps(sequence: ast.Sequence, reverse: bool = False) -> list[ast.Seq
 
 
 def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, str | None],
-                reverse: bool = False) -> dict[str, list[tuple[str, Span]]]:
-    """Per deployed role, the generated members' text with the span they stand for."""
+                reverse: bool = False, compact: bool = False) -> dict[str, list[tuple[str, Span]]]:
+    """Per deployed role, the generated members' text with the span they stand for (``compact``:
+    the roles that can, as a table: rdcd_core/sequences/compact.py)."""
     name = sequence.name.text
+    steps = ordered_steps(sequence, reverse)
+    tables = {role: found for role in deployed if compact and applies(sequence)
+              and (found := role_table(name, steps, role, reverse)) is not None}
     out: dict[str, list[tuple[str, Span]]] = {
-        role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); }}",
-                sequence.header_span)] for role in deployed}
+        role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); "
+                f"{tables[role][0] if role in tables else ''} }}", sequence.header_span)]
+        for role in deployed}
+    for role, (_, startup, acts) in tables.items():  # the module's key, the kinds of action
+        if startup is not None:
+            out[role].append((f"startup {name}_k_{role}() {{ {startup} }}", sequence.header_span))
+        out[role] += acts
     by_role: dict[str, list[tuple[str, Span, bool]]] = {}  # code, span, in a behaviour alone
 
     def add(step: ast.SeqStep, code: str | None, alone: bool) -> None:
+        if step.role.text in tables and step.action.text != "waitUntil":
+            return  # in the role's table
         if code is not None and step.role.text in out:
             by_role.setdefault(step.role.text, []).append((code, step.span, alone))
 
-    steps = ordered_steps(sequence, reverse)
     n = len(steps)
     rollback = is_rollback(sequence)
     if not rollback:
@@ -144,7 +155,7 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     return out
 
 
-def lower(program: ast.Program, reverse: str | None = None) -> ast.Program:
+def lower(program: ast.Program, reverse: str | None = None, compact: bool = False) -> ast.Program:
     """``program`` with its sequences as state and behaviours (``reverse``: the name of a sequence
     to run backwards instead)."""
     from rdcd_core.syntax.parser import parse
@@ -168,7 +179,11 @@ def lower(program: ast.Program, reverse: str | None = None) -> ast.Program:
                 not any(s.name.text == f"{name}_par" for s in program.states):
             states.append(_respan(_state(f"{name}_par"), sequence.name.span))  # see parallel_code
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
-                                reverse == name)
+                                reverse == name, compact)
+        if compact and applies(sequence) and not any(s.name.text == f"{name}_t" for s in program.states):
+            for added in (f"{name}_t", f"{name}_k"):  # see compact.py
+                if not any(s.name.text == added for s in states):
+                    states.append(_respan(_state(added), sequence.name.span))
         for role, items in generated.items():
             for text, span in items:
                 parsed = parse(f"role G {{ {text} }} deployment {{ G }}")
@@ -211,8 +226,8 @@ def _respan(node: Any, span: Span) -> Any:
     return node
 
 
-def lowered_model(model: Any, reverse: str | None = None) -> Any:
+def lowered_model(model: Any, reverse: str | None = None, compact: bool = False) -> Any:
     """The model of the program with its sequences lowered (analysed again)."""
     from rdcd_core.semantics import analyze
 
-    return analyze(lower(model.program, reverse))
+    return analyze(lower(model.program, reverse, compact))

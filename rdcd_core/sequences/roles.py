@@ -17,6 +17,7 @@ from rdcd_core.semantics.model import Model
 from rdcd_core.syntax import ast
 from rdcd_core.types import PREDEFINED_VALUES
 from vm import navigation
+from vm.isa.opcodes import divided, remainder, saturated
 
 if TYPE_CHECKING:
     from vm.lattice.structure import Structure
@@ -130,7 +131,9 @@ def _binary(e: ast.Binary, model: Model, role: str | None, env: _Env, mid: int) 
     ops = {"==": lambda a, b: int(a == b), "!=": lambda a, b: int(a != b),
            "<": lambda a, b: int(a < b), ">": lambda a, b: int(a > b),
            "<=": lambda a, b: int(a <= b), ">=": lambda a, b: int(a >= b),
-           "+": lambda a, b: a + b, "-": lambda a, b: a - b}
+           "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: saturated(a * b),
+           "/": lambda a, b: divided(a, b) if b else None,
+           "%": lambda a, b: remainder(a, b) if b else None}  # as the VM computes them
     op = ops.get(e.op)
     try:
         return op(left, right) if op is not None else None

@@ -15,7 +15,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 # instructions (tests/state, tests/lattice/test_changing_world.py)
 STATE_EXAMPLES = frozenset({"gradient.rdcd", "count.rdcd", "lowest.rdcd", "hops.rdcd", "obstacle_memory.rdcd",
                             "snake_gait.rdcd", "grow.rdcd", "move_one.rdcd", "eight_to_snake.rdcd",
-                            "car_to_snake.rdcd"})
+                            "car_to_snake.rdcd", "eight_to_car.rdcd"})
 
 
 def firmware_examples() -> list[Path]:

@@ -48,7 +48,10 @@ def test_correct_call_is_clean(check, primitive: Primitive) -> None:
 def test_wrong_argument_count(check, primitive: Primitive) -> None:
     args = _good(primitive) + ["1"]
     checked = check(_program(primitive, args))
-    assert "E302" in checked.codes(), checked.summary()
+    if primitive.variadic:  # table(i, v0, v1, ...): one more value is a longer table
+        assert "E302" not in checked.codes(), checked.summary()
+    else:
+        assert "E302" in checked.codes(), checked.summary()
     if primitive.params:
         checked = check(_program(primitive, [GOOD[p.type] for p in primitive.params[:-1]]))
         assert "E302" in checked.codes(), checked.summary()

@@ -169,6 +169,12 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
        "go on in the code of user command cmd (the module's role's) from its start, in the same "
        "run with the same argument; a runtime error if the module has no code for cmd",
        ext=True, no_fallthrough=True),
+    # a constant table read by index (issue 24: a sequence's steps, one byte each, instead of a
+    # comparison and a branch per step); the bytes sit in the fragment after its last instruction,
+    # each >= 128, so that every reader that walks the code sees them as pushes that never run
+    _i(80, "TABLE", (_O.START, _O.SIZE), 1, 1,
+       "pop i; push byte[start + i] - 128 if 0 <= i < size, else 0: the bytes [start, start + size) "
+       "of the fragment are a table of values 0..127 (each byte >= 128), never run", ext=True),
     _i(90, "CONNECT", (), 1, 1,
        "pop c; latch male connector c onto the female connector that faces it; the run waits until "
        "the latch has closed or failed, then pushes 1 (latched) or 0 (failed)", ext=True),
@@ -247,6 +253,7 @@ COMMANDS = frozenset(BUILTIN_COMMANDS) | frozenset(USER_COMMAND_NUMBERS)
 
 # What the joint accepts, checked by the checker for a constant (E210, E211) and by TURN_STACK,
 # TURN_TO_STACK, TURN_BY_STACK and SLEEP_ROTATIONS_STACK for a value known only at run time.
+TABLE_VALUES = (0, 127, 1)  # TABLE's entries: one byte each, 128 + v (a push that never runs)
 SPEEDS = (-127, 127)  # turnContinuously: -128 has no opposite speed (-(-128) saturates to 127)
 ANGLES_TO = (-180, 170)  # turnTowards: a multiple of 10 (ANGLE_STEP)
 ANGLES_BY = (-1280, 1270)  # turnDegrees: a multiple of 10, the operand of ROTATE_DEGREES in tens

@@ -20,6 +20,7 @@ from vm.isa.opcodes import (
     BY_OPCODE,
     COMMANDS,
     MAX_STACK,
+    PUSH_SMALL_BASE,
     SLOT_BYTES,
     STATE_SLOTS,
     USER_COMMAND_BASE,
@@ -155,6 +156,16 @@ def _check_targets(d: Decoded, code: bytes, at: dict[int, Decoded], rules: _Rule
             errors.append(f"{where}: jump target {t} is outside the {len(code)}-byte fragment")
         elif t not in at:
             errors.append(f"{where}: jump target {t} is not on an instruction boundary")
+    if d.name == "TABLE":  # data, not code: values 0..127 stored as bytes >= 128, never run
+        start, size = ops[Operand.START], ops[Operand.SIZE]
+        table = code[start:start + size]
+        if size == 0 or start + size > len(code):
+            errors.append(f"{where}: table [{start}, {start + size}) is empty or outside the "
+                          f"{len(code)}-byte fragment")
+        elif any(b < PUSH_SMALL_BASE for b in table):
+            errors.append(f"{where}: table [{start}, {start + size}) holds a byte < "
+                          f"{PUSH_SMALL_BASE} (its values are 0..127, stored + {PUSH_SMALL_BASE})")
+        return errors
     if Operand.START in ops:
         start, size = ops[Operand.START], ops[Operand.SIZE]
         end = start + size

@@ -1,0 +1,130 @@
+"""The compact form of a sequence (docs/reconfiguration.md "The compact form"): the steps of a
+role as a table, one byte a step, instead of a comparison and a branch per step.
+
+Used when the ordinary form (rdcd_core/sequences/lower.py) does not fit a module's program slots
+(E805) and the target runs TABLE. For a role R whose steps (other than waitUntil's) all name their
+module alike, the relay of R also reads its step code at the progress S::
+
+    S_t := table(S - k0, e_k0, ..., e_k1);
+
+with k0..k1 R's first and last steps; e = key * 14 + a (0: not R's step), where key is the value
+of the condition's left side that names the module (``R(E == key)``, 0..8; 0 without a condition)
+and a the action: disconnect(c) 1 + c/2, connect(c) 5 + c/2 (male c 0..6), turnQuarters(n)
+11 + n (n = -2, -1, 1, 2). The relay then keeps a only on the module whose key it is
+(``if (S_t / 14 != E) { S_t := 0; } S_t := S_t % 14;``), and one behaviour per kind of action
+acts on its codes, told apart by one comparison (S_t >= 0)::
+
+    if ((S_t + 3) / 4 == 1) { if (self.disconnect(S_t * 2 - 2)) { S := S + 1; S_t := 0; } }
+
+Only the module of step S can move the progress past S, so the code it read stays the code of the
+step until it acts; ``S_t := 0`` keeps a second run before the next read from acting twice. A
+failed action leaves S, and is tried again. Backwards (``reverse``) the table is the undo of each
+step, read in reverse order. Parallel blocks and rollback keep the ordinary form.
+"""
+
+from __future__ import annotations
+
+from rdcd_core.formatter import expr
+from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS
+from rdcd_core.sequences.progress import is_rollback
+from rdcd_core.source import Span
+from rdcd_core.syntax import ast
+
+CODES = 14  # a in 1..13; key * 14 + 13 <= 127 for a key up to 8
+MAX_KEY = (127 - (CODES - 1)) // CODES
+TURNS = (-2, -1, 1, 2)
+# entries of a table statement, the first after the relay: each statement fits a fragment's part
+FIRST, CHUNK = 9, 16
+KINDS = {  # which codes a kind has (one comparison, exact for any S_t) and its argument
+    "disconnect": ("({t} + 3) / 4 == 1", "{t} * 2 - 2"),  # 1..4
+    "connect": ("({t} - 1) / 4 == 1", "{t} * 2 - 10"),  # 5..8
+    "turnQuarters": ("({t} + 1) / 5 == 2", "{t} - 11"),  # 9, 10, 12, 13
+}
+
+
+def applies(sequence: ast.Sequence) -> bool:
+    """Steps one after the other, no rollback: the only sequences with a compact form."""
+    return not is_rollback(sequence) and all(isinstance(item, ast.SeqStep) for item in sequence.items)
+
+
+def _constant(node: ast.Node) -> int | None:
+    text = expr(node).replace(" ", "")
+    try:
+        return int(text)
+    except ValueError:
+        return None
+
+
+def _key(step: ast.SeqStep) -> tuple[str | None, int] | None:
+    """(the left side that names the module, its value), (None, 0) without a condition."""
+    if step.condition is None:
+        return None, 0
+    cond = ast.unparen(step.condition)
+    if isinstance(cond, ast.Binary) and cond.op == "==":
+        value = _constant(cond.right)
+        if value is not None and 0 <= value <= MAX_KEY:
+            return expr(cond.left), value
+    return None
+
+
+def _code(action: str, arg: int) -> int | None:
+    if action in ("connect", "disconnect") and arg in (0, 2, 4, 6):
+        return (5 if action == "connect" else 1) + arg // 2
+    if action == "turnQuarters" and arg in TURNS:
+        return 11 + arg
+    return None
+
+
+def role_table(name: str, steps: list[ast.SeqStep], role: str,
+               reverse: bool) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
+    """(the table read after the relay, the key's startup statement, the behaviours that act) of
+    ``role``'s steps, None when one of them has no compact code (its condition is not
+    ``E == key``, or another E, or an argument outside the codes)."""
+    mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
+    if not mine:
+        return None
+    left: set[str | None] = set()
+    entries: dict[int, int] = {}
+    kinds: dict[str, Span] = {}
+    for k, step in mine:
+        if step.action.text not in STEP_ACTIONS or len(step.args) != 1:
+            return None
+        key = _key(step)
+        arg = _constant(step.args[0]) if not isinstance(step.args[0], ast.Block) else None
+        if key is None or arg is None:
+            return None
+        action = INVERSE[step.action.text] if reverse else step.action.text
+        if reverse and action == "turnQuarters":
+            arg = -arg
+        code = _code(action, arg)
+        if code is None:
+            return None
+        left.add(key[0])
+        entries[k] = key[1] * CODES + code
+        kinds.setdefault(action, step.span)
+    if len(left) != 1:
+        return None
+    k0, k1 = mine[0][0], mine[-1][0]
+    t = f"{name}_t"
+    side = left.pop()
+    k = f"{name}_k"
+    reads = []  # the first statement follows the relay in the behaviour's first part
+    start = k0
+    while start <= k1:
+        end = min(start + (FIRST if start == k0 else CHUNK), k1 + 1)
+        values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
+        index = f"{name} - {start}" if start else name
+        reads.append(f"{t} := table({index}, {values}){f' - {k}' if side else ''};" if start == k0
+                     else f"{t} := {t} + table({index}, {values});")  # one index in its table
+        start = end
+    read = " ".join(reads)
+    # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
+    # only; on the others 14 or more away (or <= 0)
+    startup = f"{k} := ({side}) * {CODES};" if side else None
+    acts = []
+    for action, span in kinds.items():
+        test, arg_text = KINDS[action]
+        done = f"{name} := {name} + 1; {t} := 0;"
+        acts.append((f"behavior {t}_{role}_{action}() {{ if ({test.format(t=t)}) {{ "
+                     f"if (self.{action}({arg_text.format(t=t)})) {{ {done} }} }} }}", span))
+    return read, startup, acts

@@ -1,0 +1,78 @@
+"""The compact form of sequences (rdcd_core/sequences/compact.py) and the language's
+``table(i, v0, ...)``: a program that compiles in the ordinary form keeps it; one that does not is
+compiled again with tables; bad arguments of ``table`` are diagnostics."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from rdcd_core.frontend import check_text
+from rdcd_core.sequences.compact import role_table
+from rdcd_core.sequences.lower import lower, ordered_steps
+from rdcd_core.syntax.parser import parse
+
+ROOT = Path(__file__).resolve().parents[2]
+ROLE = "state a := 0;\nrole A { self.center_position == EAST_WEST; behavior b() { a := %s; } }\n" \
+       "role B { }\ndeployment { A, B }\n"
+
+
+@pytest.mark.parametrize("call, code", [
+    ("table(a, 1, 200)", "E204"), ("table(a, 1, -1)", "E211"), ("table(a, a)", "E205"),
+    ("table(a)", "E302"), ("table()", "E302"), ("table(a, {})", "E304")])
+def test_bad_arguments_of_table_are_diagnostics(call: str, code: str) -> None:
+    result = check_text(ROLE % call)
+    assert code in {d.code for d in result.diagnostics if d.severity.name == "ERROR"}
+
+
+def test_table_checks_clean_with_constants() -> None:
+    result = check_text(ROLE % "table(a - 1, 0, 127, 5)")
+    assert [d for d in result.diagnostics if d.severity.name == "ERROR"] == []
+
+
+@pytest.mark.parametrize("name", ["car_to_snake.rdcd", "eight_to_snake.rdcd"])
+def test_programs_that_fit_keep_the_ordinary_form(name: str) -> None:
+    from rdcd_core.compiler import compile_model
+
+    text = (ROOT / "examples" / name).read_text()
+    result = check_text(text)
+    program = compile_model(result.model, text=text)
+    assert not program.has_errors
+    assert not any(f.name.startswith(("eightToCar_t", "carToSnake_t")) for f in program.fragments)
+    assert all(s.name[-2:] not in ("_t", "_k") for s in program.states)
+
+
+def _sequence(steps: str):  # noqa: ANN202 - the parsed program
+    text = f"role R {{ self.x() >= 0; }}\nsequence s {{ {steps} }}\ndeployment {{ R }}\n"
+    return parse(text).program
+
+
+@pytest.mark.parametrize("steps", [
+    "R(self.x() == 9).connect(0);",  # key over 8
+    "R(self.x() > 1).connect(0);",  # not E == key
+    "R(self.x() == 1).connect(1);",  # female connector
+    "R(self.x() == 1).turnQuarters(3);",  # three quarters
+    "R(self.x() == 1).connect(0); R(self.y() == 1).connect(0);",  # two expressions
+    "R.waitUntil(1 == 1);",  # nothing to put in a table
+])
+def test_steps_without_a_compact_code_keep_the_ordinary_form(steps: str) -> None:
+    program = _sequence(steps)
+    assert role_table("s", ordered_steps(program.sequences[0]), "R", False) is None
+
+
+def test_the_table_backwards_is_the_undo_in_reverse_order() -> None:
+    program = _sequence("R(self.x() == 1).disconnect(2); R(self.x() == 2).turnQuarters(1);")
+    steps = program.sequences[0]
+    read, startup, acts = role_table("s", ordered_steps(steps), "R", False)
+    assert "table(s, 16, 40)" in read and startup == "s_k := (self.x()) * 14;"  # 1*14+2, 2*14+12
+    read, _, acts = role_table("s", ordered_steps(steps, True), "R", True)
+    assert "table(s, 38, 20)" in read  # turn back -1: 2*14+10; connect(2): 1*14+6
+    assert {a[0].split("(")[0] for a in acts} == {"behavior s_t_R_turnQuarters", "behavior s_t_R_connect"}
+
+
+def test_compact_lowering_declares_its_states_once() -> None:
+    program = _sequence("R(self.x() == 1).disconnect(2);")
+    lowered = lower(program, compact=True)
+    names = [s.name.text for s in lowered.states]
+    assert names.count("s_t") == 1 and names.count("s_k") == 1
