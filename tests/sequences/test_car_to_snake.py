@@ -13,19 +13,10 @@ from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
 from sim.config import load_config
 from sim.run import Options, simulate
+from tests.sequences.shapes import shape, structure_shape
 from vm.lattice.plan import FlatChain
 
 TEXT = (Path(__file__).resolve().parents[2] / "examples" / "car_to_snake.rdcd").read_text()
-
-
-def shape(report: dict) -> tuple[dict, set]:
-    cells = {m["id"]: tuple(m["final_lattice"]) for m in report["modules"]}
-    return cells, {tuple(c) for c in report["connections"]}
-
-
-def structure_shape(structure) -> tuple[dict, set]:  # noqa: ANN001
-    cells = {m: tuple(s.position) for m, s in structure.modules.items()}
-    return cells, {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()}
 
 
 def run(*, loss: float = 0.0, seed: int = 0, reverse: bool = False) -> tuple[dict, object]:

@@ -16,21 +16,12 @@ from rdcd_core.frontend import check_text
 from sim.config import load_config
 from sim.run import Options, simulate
 from tests.cli.helpers import assert_clean_failure, rdcd
+from tests.sequences.shapes import shape, structure_shape
 from vm.lattice.outside import ChangeError, OutsideChange, parse, parse_all, validate
 
 HERE = Path(__file__).parent
 RELATCH = (HERE / "relatch.rdcd").read_text()
 LATTICE = ("--world", "lattice", "--duration", "30", "--obstacle", "none", "--config", "eight7")
-
-
-def shape(report: dict) -> tuple[dict, set]:
-    cells = {m["id"]: tuple(m["final_lattice"]) for m in report["modules"]}
-    return cells, {tuple(c) for c in report["connections"]}
-
-
-def structure_shape(structure) -> tuple[dict, set]:  # noqa: ANN001
-    cells = {m: tuple(s.position) for m, s in structure.modules.items()}
-    return cells, {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()}
 
 
 def run(text: str, changes: list[str], *, loss: float = 0.0, seed: int = 0) -> tuple[dict, object]:

@@ -18,21 +18,12 @@ from rdcd_core.sequences.progress import done_value, progress_plan, steps_done
 from rdcd_core.syntax import parse
 from sim.config import load_config
 from sim.run import Options, simulate
+from tests.sequences.shapes import shape, structure_shape
 
 HERE = Path(__file__).parent
 EIGHT = (HERE.parents[1] / "examples" / "eight_to_snake.rdcd").read_text()
 PARALLEL = (HERE / "eight_to_snake_parallel.rdcd").read_text()
 TURNS = (HERE / "parallel_turns.rdcd").read_text()
-
-
-def shape(report: dict) -> tuple[dict, set]:
-    cells = {m["id"]: tuple(m["final_lattice"]) for m in report["modules"]}
-    return cells, {tuple(c) for c in report["connections"]}
-
-
-def structure_shape(structure) -> tuple[dict, set]:  # noqa: ANN001
-    cells = {m: tuple(s.position) for m, s in structure.modules.items()}
-    return cells, {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()}
 
 
 def run(text: str, *, loss: float = 0.0, seed: int = 0, duration: float = 40.0,
