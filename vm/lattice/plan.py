@@ -301,11 +301,7 @@ def moves(s: Structure, turns: Iterable[int] = TURNS) -> list[Op]:
     out: list[Op] = []
     for m in sorted(s.modules):
         ports = s.neighbours(m)
-        for p in (0, 2, 4, 6):
-            if p not in ports:
-                other = s.facing(m, p)
-                if other is not None and other[1] % 2 and other[1] not in s.neighbours(other[0]):
-                    out.append(Op("latch", m, p))
+        out.extend(_latches_of(s, m, ports))
         for p, (b, pb) in sorted(ports.items()):
             if p % 2 == 0 or pb % 2:  # the male end opens it (either end of a same-sex link)
                 snap = s.snapshot()
@@ -322,14 +318,18 @@ def moves(s: Structure, turns: Iterable[int] = TURNS) -> list[Op]:
 
 def latches(s: Structure) -> list[Op]:
     """Every latch that can close on ``s``: a free male connector facing a free female one."""
+    return [op for m in sorted(s.modules) for op in _latches_of(s, m, s.neighbours(m))]
+
+
+def _latches_of(s: Structure, m: int, ports: dict) -> list[Op]:
+    """The latches module ``m`` (latched at ``ports``) can close: a free male connector of its
+    facing a free female one."""
     out = []
-    for m in sorted(s.modules):
-        ports = s.neighbours(m)
-        for p in (0, 2, 4, 6):
-            if p not in ports:
-                other = s.facing(m, p)
-                if other is not None and other[1] % 2 and other[1] not in s.neighbours(other[0]):
-                    out.append(Op("latch", m, p))
+    for p in (0, 2, 4, 6):
+        if p not in ports:
+            other = s.facing(m, p)
+            if other is not None and other[1] % 2 and other[1] not in s.neighbours(other[0]):
+                out.append(Op("latch", m, p))
     return out
 
 
