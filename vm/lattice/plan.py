@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import heapq
 import itertools
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
 from vm import navigation
-from vm.lattice.structure import Structure
+from vm.lattice.structure import Snapshot, Structure
 
 Vec = tuple[int, int, int]
 EW, NS, UD = navigation.EAST_WEST, navigation.NORTH_SOUTH, navigation.UP_DOWN
@@ -349,32 +349,44 @@ def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2,
     snap = s.snapshot()
     # ``reversible``: a link between two connectors of one sex (a configuration's) never opens:
     # it could not close again, and the sequence could not be run backwards
-    links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()
-             if not reversible or (k.a_physical + k.b_physical) % 2]
+    links = _openable(s, reversible)
     out: list[list[Op]] = []
     for m in sorted(s.modules):
         for q in turns:
-            cuts: list[set] = []
-            for r in range(max_cut + 1):
-                for subset in itertools.combinations(links, r):
-                    if any(c <= set(subset) for c in cuts):
-                        continue
-                    s.restore(snap)
-                    ops = [_opener(link) for link in subset]
-                    if not all(_whole(op.apply(s)) for op in ops):
-                        continue
-                    if not s.rotate(m, q, apply=False).ok:
-                        continue
-                    cuts.append(set(subset))
-                    if s.entry in s.rotate(m, q).moved and keep_entry:
-                        continue
-                    ops.append(Op("rotate", m, q))
-                    out.append(ops)
-                    after = latches(s)
-                    if after:
-                        out.append(ops + after)
+            for ops in _minimal_cuts(s, snap, links, m, q, max_cut):
+                if s.entry in s.rotate(m, q).moved and keep_entry:
+                    continue
+                ops.append(Op("rotate", m, q))
+                out.append(ops)
+                after = latches(s)
+                if after:
+                    out.append(ops + after)
     s.restore(snap)
     return out
+
+
+def _openable(s: Structure, reversible: bool) -> list[tuple[int, int, int, int]]:
+    """The links a step may open; ``reversible``: not one between two connectors of one sex."""
+    return [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()
+            if not reversible or (k.a_physical + k.b_physical) % 2]
+
+
+def _minimal_cuts(s: Structure, base: Snapshot, links: list[tuple[int, int, int, int]], m: int,
+                  q: int, max_cut: int) -> Iterator[list[Op]]:
+    """The unlatches of each minimal cut (at most ``max_cut`` of ``links``; no smaller cut found
+    is part of it) that lets ``m`` turn by ``q`` without splitting the robot; when one is yielded,
+    ``s`` is ``base`` with the cut opened and the turn not made yet."""
+    cuts: list[set] = []
+    for r in range(max_cut + 1):
+        for subset in itertools.combinations(links, r):
+            if any(c <= set(subset) for c in cuts):
+                continue
+            s.restore(base)
+            ops = [_opener(link) for link in subset]
+            if not all(_whole(op.apply(s)) for op in ops) or not s.rotate(m, q, apply=False).ok:
+                continue
+            cuts.append(set(subset))
+            yield ops
 
 
 def _whole(change: object) -> bool:
@@ -481,24 +493,13 @@ def _turn_steps(s: Structure, m: int, q: int, max_cut: int, reversible: bool,
         for op in before:
             op.apply(s)
         base = s.snapshot()
-        links = [(k.a, k.a_physical, k.b, k.b_physical) for k in s.links()
-                 if not reversible or (k.a_physical + k.b_physical) % 2]
-        cuts: list[set] = []
-        for r in range(max_cut + 1):
-            for subset in itertools.combinations(links, r):
-                if any(c <= set(subset) for c in cuts):
-                    continue
-                s.restore(base)
-                ops = [_opener(link) for link in subset]
-                if not all(_whole(op.apply(s)) for op in ops) or not s.rotate(m, q, apply=False).ok:
-                    continue
-                cuts.append(set(subset))
-                s.rotate(m, q)
-                steps = [*before, *ops, Op("rotate", m, q)]
-                out.append(steps)
-                after = latches(s)
-                if after:
-                    out.append(steps + after)
+        for ops in _minimal_cuts(s, base, _openable(s, reversible), m, q, max_cut):
+            s.rotate(m, q)
+            steps = [*before, *ops, Op("rotate", m, q)]
+            out.append(steps)
+            after = latches(s)
+            if after:
+                out.append(steps + after)
     s.restore(snap)
     return out
 
