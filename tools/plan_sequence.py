@@ -105,5 +105,14 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def run() -> int:
+    """``main`` with Ctrl-C said in one line (a long search is often stopped by hand)."""
+    try:
+        return main()
+    except KeyboardInterrupt:
+        print("plan_sequence: interrupted; no sequence printed", file=sys.stderr)
+        return 130
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run())

@@ -132,3 +132,20 @@ def test_the_checker_reads_places_in_the_entry_module_s_frame() -> None:
     for m in moved.modules:
         d = [a - b for a, b in zip(moved.modules[m].position, moved.modules[0].position, strict=True)]
         assert sorted(map(abs, d)) == sorted(map(abs, seen[m].position))
+
+
+def test_the_script_stopped_by_ctrl_c_says_so_in_one_line() -> None:
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    proc = subprocess.Popen([sys.executable, str(ROOT / "tools" / "plan_sequence.py"), "eight7", "car7",
+                             "--max-states", "1000000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, cwd=ROOT)
+    time.sleep(8)  # the search has started (imports and the configuration take about a second)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert out == ""
+    assert err.strip() == "plan_sequence: interrupted; no sequence printed"
