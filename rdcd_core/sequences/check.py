@@ -53,6 +53,11 @@ def constant_arg(step: ast.SeqStep, model: Model) -> int | None:
     return value if isinstance(value, int) else None
 
 
+# module states each sequence S declares for itself (E801 when the program declares one)
+RESERVED = {"_par": "the steps done in a parallel block", "_t": "the step code of the compact form",
+            "_k": "the module's key in the compact form"}
+
+
 def check_names(model: Model) -> list[diag.Diagnostic]:
     found: list[diag.Diagnostic] = []
     seen: dict[str, ast.Sequence] = {}
@@ -65,6 +70,12 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
                                    f"'{name}' is already the name of a "
                                    f"{'sequence' if name in seen else 'module state'}"))
         seen.setdefault(name, sequence)
+        for suffix, use in RESERVED.items():  # the lowering's own states (lower.py, compact.py)
+            other = model.states.get(name + suffix)
+            if other is not None and other.decl.span != sequence.name.span:
+                found.append(diag.make(codes.DUPLICATE_SEQUENCE, other.decl.name.span,
+                                       f"'{name}{suffix}' is the name sequence '{name}' uses for "
+                                       f"{use}: give this state another name"))
         if sequence.modifier is not None and sequence.modifier.text != "rollback":
             found.append(diag.make(codes.BAD_STEP, sequence.modifier.span,
                                    f"'{sequence.modifier.text}': after a sequence's name and "

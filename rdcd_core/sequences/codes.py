@@ -11,7 +11,8 @@ _E, _W = Severity.ERROR, Severity.WARNING
 _ROLE = "role A { self.center_position == NORTH_SOUTH; }\nrole B { }\n"
 
 DUPLICATE_SEQUENCE = define_code(
-    "E801", _E, "two sequences, or a sequence and a module state, of one name",
+    "E801", _E, "two sequences, or a sequence and a module state, of one name (or a state named like the "
+    "sequence's own S_par, S_t, S_k)",
     _ROLE + "sequence s { A.waitUntil(1 == 1); }\nsequence s { }\ndeployment { A, B }")
 UNKNOWN_STEP_ROLE = define_code(
     "E802", _E, "a step names a role that is not in the deployment",

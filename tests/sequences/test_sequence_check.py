@@ -124,6 +124,14 @@ def test_a_sequence_named_like_a_state_and_a_duplicate() -> None:
     assert "E801" in codes(twice)
 
 
+@pytest.mark.parametrize("suffix", ["_par", "_t", "_k"])
+def test_a_state_named_like_the_sequence_s_own_is_an_error_not_silently_shared(suffix: str) -> None:
+    text = f"state eightToSnake{suffix} := 0;\n" + EIGHT
+    found = [d for d in check_text(text).diagnostics if d.code == "E801"]
+    assert len(found) == 1 and f"'eightToSnake{suffix}' is the name sequence" in found[0].message
+    assert found[0].span.start == text.index(f"eightToSnake{suffix}")
+
+
 def test_an_unknown_configuration_is_a_diagnostic_and_a_bad_option_a_usage_error(tmp_path: Path) -> None:
     assert "E804" in codes(EIGHT.replace("(eight7)", "(nosuchconfig)"))
     program = tmp_path / "p.rdcd"
