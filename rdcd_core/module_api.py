@@ -120,6 +120,11 @@ PRIMITIVES: tuple[Primitive, ...] = (
               "Turn the joint n quarter turns (n > 0 clockwise), carrying everything attached to the "
               "turning hemisphere to new cells; waits until the turn has ended. True if it turned; "
               "false if blocked (a loop through the structure, a module in the way, the ground)."),
+    Primitive("act", _S, (_p("a", Type.INT),), Type.BOOL,
+              "The action of a sequence step from its code a (the compact form of sequences, "
+              "docs/reconfiguration.md): 1..4 disconnect(2 * (a - 1)), 5..8 connect(2 * (a - 5)), "
+              "9, 10, 12, 13 turnQuarters(a - 11); waits like them and answers the same. Any other a "
+              "answers false at once and does nothing. Placed like connect (an extension, ACT)."),
     Primitive("min", _F, (_p("a", Type.INT), _p("b", Type.INT)), Type.INT,
               "The smaller of a and b; min(neighbours.s): the smallest value of module state s that a "
               "neighbour published (127 when none has).", aggregate=True),
@@ -152,6 +157,6 @@ def lookup_function(name: str) -> Primitive | None:
 
 # The calls that change the structure: they act, so they are never evaluated twice or in role
 # discovery (the checker allows them only where they run exactly once, E320).
-ACTIONS = frozenset({"connect", "disconnect", "turnQuarters"})
+ACTIONS = frozenset({"connect", "disconnect", "turnQuarters", "act"})
 # The calls whose argument is a physical connector number (a constant is checked, E220).
 CONNECTOR_CALLS = frozenset({"connect", "disconnect", "isConnected", "isAligned"})

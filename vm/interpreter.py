@@ -34,6 +34,7 @@ from vm.isa.opcodes import (
     remainder,
     saturated,
     signed_byte,
+    step_action,
 )
 from vm.isa.targets import DEFAULT, Target
 from vm.navigation import AXES, AXIS_NAMES, DIRECTION_NAMES, DIRECTIONS
@@ -385,6 +386,14 @@ def _step(frame: Frame, m: Machine, target: Target = DEFAULT) -> Result | None: 
         if code is None:
             raise VMError(f"CONTINUE_COMMAND: no code for command {a[0]} here")
         frame.code, frame.pc = code, 0
+    elif name == "ACT":  # a compact sequence step's action by its code (vm.isa.opcodes.step_action)
+        action = step_action(_pop(frame))
+        if action is None:
+            _push(frame, 0, target)
+        else:
+            frame.at = at
+            m.start_action(action[0], action[1], frame.code, at)
+            return Result(Outcome.ACTION)
     elif name in ACTIONS:
         # the world answers later: the runtime resumes the frame and pushes 1 or 0 (the result
         # counts in the verifier's stack depth like any push)

@@ -39,6 +39,11 @@ __all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_li
            "compile_model", "resolve_target", "target_diagnostics"]
 
 
+def _compact_runs(target: Target) -> bool:
+    """Whether ``target`` runs the compact form of sequences: its tables and its one action."""
+    return target.implements_name("TABLE") and target.implements_name("ACT")
+
+
 def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, strict_isa: bool = False,
                   text: str | None = None, target: Target | str | None = None,
                   reverse: str | None = None, compact: bool = False) -> CompiledProgram:
@@ -58,7 +63,7 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
 
         original = model
         model = lowered_model(model, reverse, compact)
-        if model.has_errors and not compact and chosen.implements_name("TABLE"):
+        if model.has_errors and not compact and _compact_runs(chosen):
             tables = lowered_model(original, reverse, True)  # too many behaviours for a role (E121)?
             if not tables.has_errors:
                 return compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
@@ -90,7 +95,7 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
 
         over = slot_limit(model, planner.fragments, chosen.program_slots)
         failed = over or any(d.severity is diag.Severity.ERROR for d in found)
-        if failed and not compact and chosen.implements_name("TABLE"):
+        if failed and not compact and _compact_runs(chosen):
             # too many fragments, or too large: the steps as tables (rdcd_core/sequences/compact.py),
             # kept if that compiles; a program that compiles keeps its ordinary form, byte for byte
             smaller = compile_model(original, packet_budget=packet_budget, target=chosen, text=text,

@@ -9,10 +9,10 @@ from rdcd_core.compiler.ir import Item, Label
 from rdcd_core.syntax import ast
 
 OPS = {"connect": "CONNECT", "disconnect": "DISCONNECT", "isConnected": "IS_CONNECTED",
-       "isAligned": "IS_ALIGNED", "turnQuarters": "TURN_QUARTERS"}
+       "isAligned": "IS_ALIGNED", "turnQuarters": "TURN_QUARTERS", "act": "ACT"}
 # what the ATRON firmware's API calls them (native/include/atron.h); its DCD-VM has no opcode
 FIRMWARE = {"connect": "_connect", "disconnect": "disconnect", "isConnected": "isConnected",
-            "isAligned": "isOtherConnectorNearby", "turnQuarters": "rotate"}
+            "isAligned": "isOtherConnectorNearby", "turnQuarters": "rotate", "act": "none of them"}
 
 
 def push(name: str, args: tuple, ctx: Context, out: list[Item], span: object) -> None:

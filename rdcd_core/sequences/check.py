@@ -141,6 +141,9 @@ class Trace:
     diagnostics: list[diag.Diagnostic] = field(default_factory=list)
     final: Any = None  # the Structure after the last step, when every step could happen
     start: Any = None
+    # the roles modules play before each step and at the end; None when a module's role depends
+    # on values known only at run time (the compact form's relays, rdcd_core/sequences/lower.py)
+    played: set[str] | None = field(default_factory=set)
 
 
 def load_structure(name: str) -> Any:
@@ -187,7 +190,13 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
                     learned[other] = current.modules[other]
             trace.results.append(StepResult(step, mid, describe(model, current, learned)))
     trace.final = current
+    _played(trace, *find_roles(model, current, learned))
     return trace
+
+
+def _played(trace: Trace, roles: dict[int, str | None], uncertain: set[int]) -> None:
+    if trace.played is not None:
+        trace.played = None if uncertain else trace.played | {r for r in roles.values() if r}
 
 
 Touches = tuple[set[int], set[int]]  # modules that act or are carried; far ends of a latch
@@ -196,6 +205,7 @@ Touches = tuple[set[int], set[int]]  # modules that act or are carried; far ends
 def _one_step(model: Model, step: ast.SeqStep, current: Any, trace: Trace,
               reverse: bool, learned: dict[int, Any]) -> tuple[bool, int | None, Touches]:
     roles, uncertain = find_roles(model, current, learned)
+    _played(trace, roles, uncertain)
     env = environment(model, current, roles, learned)
     sure, maybe = [], []
     for mid in sorted(current.modules):

@@ -35,11 +35,9 @@ MAX_KEY = (127 - (CODES - 1)) // CODES
 TURNS = (-2, -1, 1, 2)
 # entries of a table statement, the first after the relay: each statement fits a fragment's part
 FIRST, CHUNK = 9, 16
-KINDS = {  # which codes a kind has (one comparison, exact for any S_t) and its argument
-    "disconnect": ("({t} + 3) / 4 == 1", "{t} * 2 - 2"),  # 1..4
-    "connect": ("({t} - 1) / 4 == 1", "{t} * 2 - 10"),  # 5..8
-    "turnQuarters": ("({t} + 1) / 5 == 2", "{t} - 11"),  # 9, 10, 12, 13
-}
+# one behaviour acts on every code (the DCD-VM's ACT, vm.isa.opcodes.step_action, decodes it):
+# one command number for the role's actions, where a behaviour per kind took three
+ACT = "if (self.act({t})) {{ {name} := {name} + 1; {t} := 0; }}"
 
 
 def applies(sequence: ast.Sequence) -> bool:
@@ -85,7 +83,6 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
         return None
     left: set[str | None] = set()
     entries: dict[int, int] = {}
-    kinds: dict[str, Span] = {}
     for k, step in mine:
         if step.action.text not in STEP_ACTIONS or len(step.args) != 1:
             return None
@@ -101,7 +98,6 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
             return None
         left.add(key[0])
         entries[k] = key[1] * CODES + code
-        kinds.setdefault(action, step.span)
     if len(left) != 1:
         return None
     k0, k1 = mine[0][0], mine[-1][0]
@@ -121,10 +117,7 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
     # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
     # only; on the others 14 or more away (or <= 0)
     startup = f"{k} := ({side}) * {CODES};" if side else None
-    acts = []
-    for action, span in kinds.items():
-        test, arg_text = KINDS[action]
-        done = f"{name} := {name} + 1; {t} := 0;"
-        acts.append((f"behavior {t}_{role}_{action}() {{ if ({test.format(t=t)}) {{ "
-                     f"if (self.{action}({arg_text.format(t=t)})) {{ {done} }} }} }}", span))
+    # ACT answers false at once, doing nothing, for a code that is no step's (0, <= 0 or >= 14
+    # away from this module's key): the modules whose step it is not
+    acts = [(f"behavior {t}_{role}() {{ {ACT.format(t=t, name=name)} }}", mine[0][1].span)]
     return read, startup, acts

@@ -102,9 +102,11 @@ def ordered_steps(sequence: ast.Sequence, reverse: bool = False) -> list[ast.Seq
 
 
 def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, str | None],
-                reverse: bool = False, compact: bool = False) -> dict[str, list[tuple[str, Span]]]:
+                reverse: bool = False, compact: bool = False,
+                played: set[str] | None = None) -> dict[str, list[tuple[str, Span]]]:
     """Per deployed role, the generated members' text with the span they stand for (``compact``:
-    the roles that can, as a table: rdcd_core/sequences/compact.py)."""
+    the roles that can, as a table: rdcd_core/sequences/compact.py). ``played``: the roles that
+    modules play while the sequence runs (``roles_played``); the others need no relay."""
     name = sequence.name.text
     steps = ordered_steps(sequence, reverse)
     tables = {role: found for role in deployed if compact and applies(sequence)
@@ -112,7 +114,8 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     out: dict[str, list[tuple[str, Span]]] = {
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); "
                 f"{tables[role][0] if role in tables else ''} }}", sequence.header_span)]
-        for role in deployed}
+        for role in deployed if played is None or role in played or role in tables}
+    out.update({role: [] for role in deployed if role not in out})
     for role, (_, startup, acts) in tables.items():  # the module's key, the kinds of action
         if startup is not None:
             out[role].append((f"startup {name}_k_{role}() {{ {startup} }}", sequence.header_span))
@@ -155,9 +158,29 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     return out
 
 
-def lower(program: ast.Program, reverse: str | None = None, compact: bool = False) -> ast.Program:
+def roles_played(model: Any, sequence: ast.Sequence) -> set[str] | None:
+    """The roles modules play while ``sequence`` runs, in the checker's model from the starting
+    configuration the sequence names (rdcd_core/sequences/check.py): before each step and at the
+    end. None when that is not known: no configuration named, one that cannot be loaded, a step
+    that cannot happen, or a role that depends on values known only at run time."""
+    from rdcd_core.sequences.check import load_structure, run
+
+    if sequence.config is None or model.has_errors:
+        return None
+    try:
+        structure = load_structure(sequence.config.text)
+    except ValueError:
+        return None
+    trace = run(model, sequence, structure)
+    return trace.played if trace.final is not None and not trace.diagnostics else None
+
+
+def lower(program: ast.Program, reverse: str | None = None, compact: bool = False,
+          played: dict[str, set[str] | None] | None = None) -> ast.Program:
     """``program`` with its sequences as state and behaviours (``reverse``: the name of a sequence
-    to run backwards instead)."""
+    to run backwards instead). ``played``: per sequence, the roles modules play while it runs;
+    in the compact form a role that none plays, one taken only after the sequence, gets no relay
+    (roles_played; None: every deployed role relays)."""
     from rdcd_core.syntax.parser import parse
 
     if not program.sequences or program.deployment is None:
@@ -179,7 +202,7 @@ def lower(program: ast.Program, reverse: str | None = None, compact: bool = Fals
                 not any(s.name.text == f"{name}_par" for s in program.states):
             states.append(_respan(_state(f"{name}_par"), sequence.name.span))  # see parallel_code
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
-                                reverse == name, compact)
+                                reverse == name, compact, (played or {}).get(name))
         if compact and applies(sequence) and not any(s.name.text == f"{name}_t" for s in program.states):
             for added in (f"{name}_t", f"{name}_k"):  # see compact.py
                 if not any(s.name.text == added for s in states):
@@ -230,4 +253,7 @@ def lowered_model(model: Any, reverse: str | None = None, compact: bool = False)
     """The model of the program with its sequences lowered (analysed again)."""
     from rdcd_core.semantics import analyze
 
-    return analyze(lower(model.program, reverse, compact))
+    # the compact form is for programs that do not fit: there a role taken only once a sequence
+    # is done (found by the checker's model) spends no command number and no bytes on its relay
+    played = {s.name.text: roles_played(model, s) for s in model.program.sequences} if compact else None
+    return analyze(lower(model.program, reverse, compact, played))

@@ -3,7 +3,8 @@ guided search (vm/lattice/plan.py ``guided``) keeps its eleven quarter turns (ac
 the plan reaches car7's shape resting on its wheels, runs backwards to the eight in the model (same
 cells, same connections), and the checker agrees forwards (tests/sequences/eight_to_car_steps.rdcd).
 With a role per module it does not fit a module's ten program slots; examples/eight_to_car.rdcd,
-one role with keys, compiles to tables and fits (docs/reconfiguration.md "The compact form")."""
+one role with keys, compiles to tables and fits (docs/reconfiguration.md "The compact form"), and
+then drives as a car (tests/sequences/test_eight_to_car_drives.py)."""
 
 from __future__ import annotations
 
@@ -90,15 +91,21 @@ def _cells(report: dict) -> tuple[dict, set]:
 
 def test_the_example_one_role_by_keys_fits_as_tables() -> None:
     # examples/eight_to_car.rdcd: the same 23 steps, one role, each module named by a key on the
-    # coordinates it learned in the eight: the compact form, 6 fragments (was 29)
+    # coordinates it learned in the eight: the compact form (tables and one ACT behaviour, 4
+    # fragments, 126 bytes), then the car's roles (no relay: the checker's model shows no module
+    # plays them while the sequence runs): 10 fragments in all (29 with a role per module)
     result = check_text(EXAMPLE)
     assert result.diagnostics == []
     assert Goal(load_config("car7")).reached(result.traces[0].final)
+    assert result.traces[0].played == {"Piece"}
     program = compile_model(result.model, text=EXAMPLE)
-    assert not program.has_errors and len(program.fragments) == 6
-    assert sum(len(f.code) for f in program.fragments) == 221
+    assert not program.has_errors and len(program.fragments) == 10
+    assert sum(len(f.code) for f in program.fragments) == 355
     assert all(len(f.code) <= 43 for f in program.fragments)
     assert any(b == 80 for f in program.fragments for b in f.code)  # TABLE
+    assert sum(f.code.count(95) for f in program.fragments if f.name.startswith("Piece")) >= 1  # ACT
+    relays = [f.name for f in program.fragments if b"eightToCar" in f.name.encode()]
+    assert relays == []
 
 
 @pytest.mark.parametrize("loss, seed", [(0.0, 0), (0.2, 1), (0.2, 2)])
@@ -121,14 +128,14 @@ def shape_of(structure) -> tuple[dict, set]:  # noqa: ANN001 - a Structure
 def test_backwards_the_keys_learned_in_the_eight_are_not_the_cars() -> None:
     # checked from the car, the modules learn the car's coordinates, not the eight's, so the key
     # of the last step's module (2x + y == 1) names no module there (E810); the compiled undo
-    # is the same tables read backwards
+    # is the same tables read backwards (with the car's roles: 10 fragments)
     from rdcd_core.sequences.check import run as check_run
 
     result = check_text(EXAMPLE)
     trace = check_run(result.model, result.program.sequences[0], result.traces[0].final, reverse=True)
     assert [d.code for d in trace.diagnostics] == ["E810"]
     program = compile_model(result.model, text=EXAMPLE, reverse="eightToCar")
-    assert not program.has_errors and len(program.fragments) == 6
+    assert not program.has_errors and len(program.fragments) == 10
 
 
 def test_the_strict_skeleton_without_its_signs_is_bounded_and_says_how_close() -> None:

@@ -188,6 +188,13 @@ INSTRUCTIONS: tuple[Instruction, ...] = (
        "pop n; turn the joint n quarter turns (n > 0 clockwise), carrying everything attached to the "
        "turning hemisphere; the run waits until the turn has ended, then pushes 1 (turned) or 0 "
        "(blocked: a loop, a collision, the ground)", ext=True),
+    # the action of a compact sequence step from its one-byte code (issue 24: one behaviour for
+    # the three kinds of action instead of one each, so that the step's role keeps command numbers
+    # for other code); the codes are STEP_ACTION_CODES below
+    _i(95, "ACT", (), 1, 1,
+       "pop a; the action of step code a: 1..4 DISCONNECT 2(a - 1), 5..8 CONNECT 2(a - 5), 9, 10, 12, "
+       "13 TURN_QUARTERS a - 11, and the run waits for its answer like theirs (1 or 0); any other a "
+       "pushes 0 at once, with no action", ext=True),
     _i(127, "NOP", (), 0, 0, "nothing"),
 )
 
@@ -262,3 +269,16 @@ TURNS = (0, 127)  # sleepWhileTurning
 
 # the actions whose run waits for the world's answer (vm.interpreter Outcome.ACTION)
 ACTIONS = {"CONNECT": "connect", "DISCONNECT": "disconnect", "TURN_QUARTERS": "turn"}
+
+
+def step_action(code: int) -> tuple[str, int] | None:
+    """ACT's code a as (action, argument) in ACTIONS' words: 1..4 disconnect connector 2(a - 1),
+    5..8 connect 2(a - 5), 9, 10, 12, 13 turn a - 11 quarters; None for any other value (no action).
+    The compact form of sequences writes these codes (rdcd_core/sequences/compact.py)."""
+    if 1 <= code <= 4:
+        return "disconnect", 2 * (code - 1)
+    if 5 <= code <= 8:
+        return "connect", 2 * (code - 5)
+    if code in (9, 10, 12, 13):
+        return "turn", code - 11
+    return None
