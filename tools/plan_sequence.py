@@ -11,7 +11,8 @@
 START and TARGET are configuration names or files (sim/configs). The steps name each acting
 module by a role of its coordinates in START (``role M3 { ... }``): a module keeps the coordinates
 it learned while it keeps a connection, and no step splits the robot. These roles are a sketch:
-merge them by hand to stay within a module's ten program slots (examples/car_to_snake.rdcd).
+merge them by hand to stay within a module's ten program slots, e.g. one role with a key on the
+coordinates (examples/car_to_snake.rdcd, the compact form).
 Exit status 0 with a sequence, 1 when none was found (the reason on stderr), 2 on bad input.
 """
 
