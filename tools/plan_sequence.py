@@ -58,8 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--max-cut", type=int, default=2)
     parser.add_argument("--weight", type=float, default=2.0)
     parser.add_argument("--move-entry", action="store_true",
-                        help="let turns carry the entry module (the checker and a run backwards "
-                             "then learn coordinates in a moved frame)")
+                        help="let turns carry the entry module (the modules keep the coordinates they "
+                             "learned in the start; one that learned its place afresh would learn "
+                             "it in the moved entry's frame)")
     parser.add_argument("--irreversible", action="store_true",
                         help="let steps open links between two connectors of one sex (they cannot "
                              "close again: the sequence cannot be run backwards)")
