@@ -69,3 +69,18 @@ def test_backwards_the_checker_gives_the_car_back() -> None:
 def test_run_backwards_it_gives_the_car_back_same_cells_same_connections(loss: float, seed: int) -> None:
     report, _ = run(reverse=True, loss=loss, seed=seed)
     assert shape(report) == structure_shape(load_config("car7"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("reverse", [False, True])
+def test_the_physics_world_reaches_the_chain_and_gives_the_car_back(reverse: bool) -> None:
+    # backwards, every module starts in the frame it learned in the car (Options.frames): the
+    # physics world holds them as the lattice world does
+    result = check_text(TEXT)
+    trace = result.traces[0]
+    program = compile_model(result.model, text=TEXT, reverse="carToSnake" if reverse else None)
+    options = Options(world="physics", config="car7", obstacle="none", duration=20, seed=0,
+                      frames=vm_frames(trace.learned) if reverse else {})
+    report = simulate(program, (trace.final if reverse else load_config("car7")).copy(), options)
+    goal = load_config("car7") if reverse else trace.final
+    assert shape(report) == structure_shape(goal)
