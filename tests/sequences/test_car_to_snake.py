@@ -84,3 +84,18 @@ def test_the_physics_world_reaches_the_chain_and_gives_the_car_back(reverse: boo
     report = simulate(program, (trace.final if reverse else load_config("car7")).copy(), options)
     goal = load_config("car7") if reverse else trace.final
     assert shape(report) == structure_shape(goal)
+
+
+@pytest.mark.parametrize("config, name, said", [
+    ("eight7", "carToSnake", "cannot be run forward from eight7"),  # the keys name no module there
+    ("car7", "nope", "no sequence of that name"),
+    ("no-such-config", "carToSnake", "no-such-config")])
+def test_the_command_line_refuses_a_reversal_it_cannot_start(config: str, name: str, said: str,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    from rdcd_core.cli import main
+
+    path = str(Path(__file__).resolve().parents[2] / "examples" / "car_to_snake.rdcd")
+    assert main(["simulate", path, "--config", config, "--world", "lattice", "--obstacle", "none",
+                 "--duration", "5", "--reverse-sequence", name]) == 2
+    err = capsys.readouterr().err
+    assert said in err and "Traceback" not in err and err.count("\n") == 1
