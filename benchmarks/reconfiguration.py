@@ -5,7 +5,7 @@ parallel steps; rollback when one step fails; bytes and fragments; rdcd check sp
 Run: ``python benchmarks/reconfiguration.py [--world lattice|physics] [--seeds N]
 [--reverse-seeds N] [--losses 0,0.1,0.2,0.3] [--duration S] [FILE ...]`` (default:
 examples/eight_to_snake.rdcd from eight7, lattice, 50 seeds forward, 20 backwards;
-``--reverse-seeds 0`` for examples/car_to_snake.rdcd, which cannot be run backwards). A run succeeds
+``--reverse-seeds 0`` to run forward only). A run succeeds
 when its final structure (cells and connections) is the shape the checker finds at the end
 (backwards: the starting configuration); in the physics world each failure is given its cause.
 
@@ -36,6 +36,7 @@ from rdcd_core.compiler import compile_model  # noqa: E402
 from rdcd_core.frontend import check_text  # noqa: E402
 from rdcd_core.sequences.check import constant_arg, steps_of  # noqa: E402
 from rdcd_core.sequences.progress import done_value, is_rollback  # noqa: E402
+from rdcd_core.sequences.roles import vm_frames  # noqa: E402
 from sim.config import load_config  # noqa: E402
 from sim.run import Options, simulate  # noqa: E402
 from vm.lattice.outside import parse_all  # noqa: E402
@@ -81,23 +82,25 @@ def cause(report: dict, goal: tuple, name: str, final: set[int]) -> str:
     return f"progress {progress} everywhere{first}"
 
 
-def prepare(text: str, reverse: bool, name: str):  # noqa: ANN201 - (program, start, goal)
+def prepare(text: str, reverse: bool, name: str):  # noqa: ANN201 - (program, start, goal, frames)
+    """Backwards: the robot as the forward run leaves it, each module in the frame it learned."""
     result = check_text(text)
     assert not result.has_errors, [d.message for d in result.diagnostics]
     trace = result.traces[0]
     config = result.program.sequences[0].config.text
     start = trace.final if reverse else load_config(config)
     goal = shape_of(load_config(config) if reverse else trace.final)
-    return compile_model(result.model, text=text, reverse=name if reverse else None), start, goal
+    frames = vm_frames(trace.learned) if reverse else {}
+    return compile_model(result.model, text=text, reverse=name if reverse else None), start, goal, frames
 
 
 def runs(text: str, config: str, name: str, reverse: bool, seeds: int, loss: float,
          duration: float, world: str = "lattice") -> tuple[int, list[float], list[str]]:
-    program, start, goal = prepare(text, reverse, name)
+    program, start, goal, frames = prepare(text, reverse, name)
     ok, times, causes = 0, [], []
     for seed in range(seeds):
         options = Options(world=world, config=config, obstacle="none", duration=duration, seed=seed,
-                          packet_loss=loss)
+                          packet_loss=loss, frames=frames)
         report = simulate(program, start.copy(), options)
         if shape_of_report(report) == goal:
             ok += 1
@@ -129,7 +132,7 @@ def main_default(args: argparse.Namespace) -> None:
               f"{program.total_bytes} bytes, largest {max(f.size for f in program.fragments)}; "
               f"rdcd check {check_ms:.1f} ms (mean of 20); world {args.world}")
         for reverse, seeds in ((False, args.seeds), (True, args.reverse_seeds)):
-            if seeds <= 0:  # e.g. a sequence that cannot be run backwards (car_to_snake)
+            if seeds <= 0:  # forward only
                 continue
             for loss in losses:
                 began = time.perf_counter()
@@ -178,7 +181,7 @@ def main_rollback(args: argparse.Namespace) -> None:
     cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text())]
     for loss in [float(x) for x in args.losses.split(",")]:
         for title, text in cases:
-            program, start, target = prepare(text, False, "")
+            program, start, target, _ = prepare(text, False, "")
             begin = shape_of(start)
             name = check_text(text).program.sequences[0].name.text
             faults = faults_for(text)

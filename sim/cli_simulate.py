@@ -59,7 +59,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outside changes from a file, one per line as for --change (# comments)")
     parser.add_argument("--reverse-sequence", metavar="NAME", default=None,
                         help="run the program's sequence NAME backwards (the undo of each step, in "
-                             "reverse order), from the shape it ends in when run forward from --config "
+                             "reverse order), on the robot as the run forward from --config leaves it: its "
+                             "end shape, each module keeping the coordinates it learned at the start "
                              "(docs/reconfiguration.md)")
     parser.add_argument("--vm", choices=("default", "original"), default="default",
                         help="VM profile of every module: this project's DCD-VM (default) or the original "
@@ -188,9 +189,9 @@ def _physics_problem(structure) -> str | None:  # noqa: ANN001
             "modules); use --world lattice")
 
 
-def _sequence_end(path: str, name: str, config: str):  # noqa: ANN202 - Structure | str
-    """The shape sequence ``name`` of the program ends in, run forward from ``config`` by the
-    checker; a one-line reason when it cannot be known."""
+def _sequence_end(path: str, name: str, config: str):  # noqa: ANN202 - Trace | str
+    """The checker's run of sequence ``name`` forward from ``config`` (the shape it ends in, and
+    what each module knows of its place there); a one-line reason when it cannot be known."""
     from rdcd_core.frontend import check_text
     from rdcd_core.inputs import InputError, read_source
 
@@ -207,7 +208,7 @@ def _sequence_end(path: str, name: str, config: str):  # noqa: ANN202 - Structur
     if trace is None or trace.final is None:
         return (f"--reverse-sequence {name}: the sequence cannot be run forward from {config}, so "
                 f"the shape it ends in is not known (see rdcd check --config {config} {path})")
-    return trace.final
+    return trace
 
 
 def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
@@ -304,11 +305,16 @@ def run(args: argparse.Namespace) -> int:
     except (ConfigError, InputError, ChangeError) as e:
         return _fail(str(e))
     reverse = getattr(args, "reverse_sequence", None)
+    frames: dict = {}
     if reverse is not None:
         ended = _sequence_end(args.file, reverse, args.config)
         if isinstance(ended, str):
             return _fail(ended)
-        structure = ended
+        from rdcd_core.sequences.roles import vm_frames
+
+        # the robot as the forward run leaves it: the end shape, every module holding the frame
+        # it learned at the start (docs/reconfiguration.md "Backwards")
+        structure, frames = ended.final, vm_frames(ended.learned)
     program = _compile(args.file, args.target or args.vm, reverse)
     if isinstance(program, int):
         return program
@@ -320,7 +326,7 @@ def run(args: argparse.Namespace) -> int:
     options = Options(world=args.world, config=args.config, obstacle=args.obstacle, duration=args.duration,
                       seed=args.seed, packet_loss=args.packet_loss, gui=args.gui, record=args.record,
                       progress=_progress_bar(), realtime=args.gui, vm=args.vm, recording=recording,
-                      outside_changes=changes)
+                      outside_changes=changes, frames=frames)
     try:
         report = simulate(program, structure, options)
     except (RobotError, RuntimeError) as e:  # an unbuildable structure; no window for --gui

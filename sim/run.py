@@ -42,6 +42,10 @@ class Options:
     recording: Any = None  # a sim.replay.recording.Recording to fill, or None
     # outside changes (vm.lattice.outside.OutsideChange), validated before the run
     outside_changes: list[Any] = field(default_factory=list)
+    # module -> (coordinates, axis, virtual-to-physical map) it holds when the run starts, as
+    # learned in an earlier run (a sequence run backwards, docs/reconfiguration.md); the others
+    # learn theirs from the program's packets
+    frames: dict[int, tuple[Any, int, tuple[int, ...]]] = field(default_factory=dict)
 
 
 def role_table(program: CompiledProgram) -> RoleTable:
@@ -109,6 +113,13 @@ def inject_program(program: CompiledProgram, inject: Callable[[bytes], None]) ->
     """Enter the program's fragments in the order of the compiler's injection plan."""
     for name in program.injection:
         inject(program.fragment(name).code)
+
+
+def _hold_frames(runtimes: dict, frames: dict[int, tuple[Any, int, tuple[int, ...]]]) -> None:
+    """Every module named in ``frames`` starts with that frame (before the program enters)."""
+    for mid, (position, axis, mapping) in sorted(frames.items()):
+        if mid in runtimes:
+            runtimes[mid].hold_frame(position, axis, mapping)
 
 
 def _lattice_cells(boxes: list[Box], structure: Structure) -> frozenset[tuple[int, int, int]]:
@@ -256,6 +267,7 @@ class Run:
             if options.recording is not None:
                 options.recording.attach_physics(world, runtimes)
                 self._advance = options.recording.sampled(world.advance, lambda: world.time)
+            _hold_frames(runtimes, options.frames)
             inject_program(self.program, runtimes[structure.entry].inject)
             self.starts = {mid: (float(c[0]), float(c[1])) for mid, c in world.module_centres().items()}
             if options.record:
@@ -280,4 +292,5 @@ class Run:
         if options.recording is not None:
             options.recording.attach_lattice(world)
             self._advance = options.recording.sampled(world.advance, world.now)
+        _hold_frames(world.runtimes, options.frames)
         inject_program(self.program, world.inject)

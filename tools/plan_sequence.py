@@ -11,7 +11,8 @@
 START and TARGET are configuration names or files (sim/configs). The steps name each acting
 module by a role of its coordinates in START (``role M3 { ... }``): a module keeps the coordinates
 it learned while it keeps a connection, and no step splits the robot. These roles are a sketch:
-merge them by hand to stay within a module's ten program slots (examples/car_to_snake.rdcd).
+merge them by hand to stay within a module's ten program slots, e.g. one role with a key on the
+coordinates (examples/car_to_snake.rdcd, the compact form).
 Exit status 0 with a sequence, 1 when none was found (the reason on stderr), 2 on bad input.
 """
 
@@ -57,8 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--max-cut", type=int, default=2)
     parser.add_argument("--weight", type=float, default=2.0)
     parser.add_argument("--move-entry", action="store_true",
-                        help="let turns carry the entry module (the checker and a run backwards "
-                             "then learn coordinates in a moved frame)")
+                        help="let turns carry the entry module (the modules keep the coordinates they "
+                             "learned in the start; one that learned its place afresh would learn "
+                             "it in the moved entry's frame)")
     parser.add_argument("--irreversible", action="store_true",
                         help="let steps open links between two connectors of one sex (they cannot "
                              "close again: the sequence cannot be run backwards)")

@@ -149,6 +149,15 @@ class ModuleNode:
             return
         self._accept_program(code, ident, None, None)
 
+    def hold_frame(self, position: tuple[int, int, int], axis: int, mapping: tuple[int, ...]) -> None:
+        """Start with this frame (coordinates, axis, virtual-to-physical map) as if learned in an
+        earlier run: a robot that ran a sequence forward and now runs it backwards
+        (docs/reconfiguration.md "Backwards"). Before anything arrives; a bad frame is refused."""
+        if (len(position) != 3 or axis not in (nav.NORTH_SOUTH, nav.EAST_WEST, nav.UP_DOWN)
+                or nav.axis_for_position(*position) != axis or sorted(mapping) != list(range(8))):
+            raise ValueError(f"module {self.module_id}: not a frame: {position}, axis {axis}, {mapping}")
+        self._set_frame(tuple(position), axis, tuple(mapping))  # type: ignore[arg-type]
+
     # ---- packets ---------------------------------------------------------------------------
     def _handle_packet(self, ch: int, raw: bytes) -> None:
         if self.checksum:

@@ -144,6 +144,9 @@ class Trace:
     # the roles modules play before each step and at the end; None when a module's role depends
     # on values known only at run time (the compact form's relays, rdcd_core/sequences/lower.py)
     played: set[str] | None = field(default_factory=set)
+    # what each module knows of its place where the run ended (roles.py ``entry_frame``): a module
+    # keeps what it learned while it keeps a connection; the place a run backwards starts from
+    learned: dict[int, Any] = field(default_factory=dict)
 
 
 def load_structure(name: str) -> Any:
@@ -153,12 +156,16 @@ def load_structure(name: str) -> Any:
     return load_config(name)
 
 
-def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool = False) -> Trace:
+def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool = False,
+        learned: dict[int, Any] | None = None) -> Trace:
     """Takes ``sequence`` through a copy of ``structure``; stops at the first step that cannot
-    happen (the structure after it is not known)."""
+    happen (the structure after it is not known). ``learned``: what each module knows of its place
+    at the start (default: the entry module's frame, as when the program enters there)."""
     current = structure.copy()
     trace = Trace(start=structure)
-    learned = entry_frame(structure)  # what each module knows of its place (roles.py)
+    # what each module knows of its place (roles.py); the trace keeps it up to date
+    learned = dict(learned) if learned is not None else entry_frame(structure)
+    trace.learned = learned
     order = stages(sequence)
     if reverse:
         order = [tuple(reversed(stage)) for stage in reversed(order)]
@@ -197,6 +204,16 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
 def _played(trace: Trace, roles: dict[int, str | None], uncertain: set[int]) -> None:
     if trace.played is not None:
         trace.played = None if uncertain else trace.played | {r for r in roles.values() if r}
+
+
+def backwards(model: Model, sequence: ast.Sequence, forward: Trace) -> Trace:
+    """``sequence`` run backwards on the robot as its forward run ``forward`` leaves it: the end
+    shape, every module holding the coordinates and orientation it knows there (those it learned
+    at the start, while it kept a connection), so a role by position names the same module both
+    ways (docs/reconfiguration.md "Backwards"). ``forward`` must have reached its end."""
+    if forward.final is None:
+        raise ValueError("the forward run did not reach the end of the sequence")
+    return run(model, sequence, forward.final, reverse=True, learned=forward.learned)
 
 
 Touches = tuple[set[int], set[int]]  # modules that act or are carried; far ends of a latch

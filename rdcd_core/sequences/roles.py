@@ -254,6 +254,20 @@ def entry_frame(structure: Structure) -> dict[int, Any]:
     return out
 
 
+def vm_frames(learned: dict[int, Any]) -> dict[int, tuple[tuple[int, int, int], int, tuple[int, ...]]]:
+    """What each module of ``learned`` (places as the modules know them) holds in the DCD-VM: its
+    coordinates, axis and virtual-to-physical map (the mount's map, the north ring turned with
+    the joint as it was when the module learned it)."""
+    from vm.lattice.structure import directions
+
+    out = {}
+    for mid, spec in learned.items():
+        faces = directions(spec)
+        out[mid] = (tuple(spec.position), spec.axis,
+                    tuple(faces.index(navigation.offset(spec.axis, v)) for v in range(8)))
+    return out
+
+
 def environment(model: Model, structure: Structure, roles: dict[int, str | None],
                 learned: dict[int, Any] | None = None) -> _Env:
     return _Env(model, structure, roles, learned)

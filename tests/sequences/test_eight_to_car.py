@@ -61,16 +61,21 @@ def test_the_checker_runs_the_sequence_to_the_car() -> None:
     final = result.traces[0].final
     assert Goal(load_config("car7")).reached(final)
 
-def test_backwards_roles_by_the_eights_cells_lose_their_modules() -> None:
-    # The model runs the plan backwards (above), but these roles are the eight's cells: in the car
-    # (coordinates in the moved entry's frame) only modules 0, 1 and 6 hold one, so the checker
-    # stops the reversal at its second undo, whose actor (module 5) holds no role there.
+def test_backwards_roles_by_the_eights_cells_name_the_same_modules() -> None:
+    # Run backwards on the robot as the forward run leaves it, every module keeps the coordinates
+    # it learned in the eight, so the roles (the eight's cells) name the same modules both ways
+    # and the checker takes the car back to the eight. Started afresh in the car (the modules
+    # learning the car's coordinates) only modules 0, 1 and 6 would hold a role: E810.
+    from rdcd_core.sequences.check import backwards
     from rdcd_core.sequences.check import run as check_run
 
     result = check_text(TEXT)
-    trace = check_run(result.model, result.program.sequences[0], result.traces[0].final, reverse=True)
-    assert [d.code for d in trace.diagnostics] == ["E810"]
-    assert "no module holds M5" in trace.diagnostics[0].message
+    trace = backwards(result.model, result.program.sequences[0], result.traces[0])
+    assert trace.diagnostics == []
+    assert shape(trace.final) == shape(load_config("eight7"))
+    afresh = check_run(result.model, result.program.sequences[0], result.traces[0].final, reverse=True)
+    assert [d.code for d in afresh.diagnostics] == ["E810"]
+    assert "no module holds M5" in afresh.diagnostics[0].message
 
 
 def test_a_role_per_module_does_not_fit_ten_program_slots() -> None:
@@ -125,17 +130,32 @@ def shape_of(structure) -> tuple[dict, set]:  # noqa: ANN001 - a Structure
             {(k.a, k.a_physical, k.b, k.b_physical) for k in structure.links()})
 
 
-def test_backwards_the_keys_learned_in_the_eight_are_not_the_cars() -> None:
-    # checked from the car, the modules learn the car's coordinates, not the eight's, so the key
-    # of the last step's module (2x + y == 1) names no module there (E810); the compiled undo
-    # is the same tables read backwards (with the car's roles: 10 fragments)
-    from rdcd_core.sequences.check import run as check_run
+def test_backwards_the_keys_learned_in_the_eight_give_the_eight_back() -> None:
+    # the keys (2x + y) are the coordinates learned in the eight, which every module keeps in the
+    # car: the checker runs the undo from the car to the eight, and the compiled undo is the same
+    # tables read backwards
+    from rdcd_core.sequences.check import backwards
 
     result = check_text(EXAMPLE)
-    trace = check_run(result.model, result.program.sequences[0], result.traces[0].final, reverse=True)
-    assert [d.code for d in trace.diagnostics] == ["E810"]
+    trace = backwards(result.model, result.program.sequences[0], result.traces[0])
+    assert trace.diagnostics == []
+    assert shape_of(trace.final) == shape_of(load_config("eight7"))
     program = compile_model(result.model, text=EXAMPLE, reverse="eightToCar")
     assert not program.has_errors and len(program.fragments) == 10
+
+
+@pytest.mark.parametrize("loss, seed", [(0.0, 0), (0.2, 3)])
+def test_the_lattice_world_runs_it_backwards_from_the_car_to_the_eight(loss: float, seed: int) -> None:
+    from rdcd_core.sequences.roles import vm_frames
+    from sim.run import Options, simulate
+
+    result = check_text(EXAMPLE)
+    forward = result.traces[0]
+    program = compile_model(result.model, text=EXAMPLE, reverse="eightToCar")
+    options = Options(world="lattice", config="eight7", obstacle="none", duration=90, seed=seed,
+                      packet_loss=loss, frames=vm_frames(forward.learned))
+    report = simulate(program, forward.final.copy(), options)
+    assert _cells(report) == shape_of(load_config("eight7"))
 
 
 def test_the_strict_skeleton_without_its_signs_is_bounded_and_says_how_close() -> None:
@@ -175,3 +195,30 @@ def test_the_script_follows_a_guide(capsys: pytest.CaptureFixture[str]) -> None:
             tool.main(bad)
         assert stop.value.code == 2
     assert tool.main(["eight7", "car7", "--guide", "3", "--max-states", "5"]) == 1
+
+
+def test_the_command_line_runs_it_backwards_to_the_eight(tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from rdcd_core.cli import main
+
+    out = tmp_path / "back.json"
+    assert main(["simulate", str(ROOT / "examples" / "eight_to_car.rdcd"), "--config", "eight7",
+                 "--world", "lattice", "--obstacle", "none", "--duration", "60",
+                 "--reverse-sequence", "eightToCar", "--report", str(out)]) == 0
+    assert "sequence eightToCar backwards: done" in capsys.readouterr().out
+    assert _cells(json.loads(out.read_text())) == shape_of(load_config("eight7"))
+
+
+def test_a_module_refuses_a_frame_that_is_not_one() -> None:
+    from rdcd_core.sequences.roles import vm_frames
+    from sim.run import Options, simulate
+
+    result = check_text(EXAMPLE)
+    program = compile_model(result.model, text=EXAMPLE, reverse="eightToCar")
+    frames = vm_frames(result.traces[0].learned)
+    frames[3] = ((0, 0, 0), 1, tuple(range(8)))  # the origin is a NORTH_SOUTH place
+    options = Options(world="lattice", config="eight7", obstacle="none", duration=1, frames=frames)
+    with pytest.raises(ValueError, match="module 3: not a frame"):
+        simulate(program, result.traces[0].final.copy(), options)

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
 from rdcd_core.sequences.progress import done_value, progress_plan, steps_done
+from rdcd_core.sequences.roles import vm_frames
 from rdcd_core.syntax import parse
 from sim.config import load_config
 from sim.run import Options, simulate
@@ -33,8 +34,10 @@ def run(text: str, *, loss: float = 0.0, seed: int = 0, duration: float = 40.0,
     start = result.traces[0].final if reverse else load_config("eight7")
     program = compile_model(result.model, text=text, reverse=reverse)
     assert not program.has_errors and max(f.size for f in program.fragments) <= 43
+    # backwards: the robot as the forward run leaves it, each module in the frame it learned
+    frames = vm_frames(result.traces[0].learned) if reverse else {}
     options = Options(world="lattice", config="eight7", obstacle="none", duration=duration, seed=seed,
-                      packet_loss=loss)
+                      packet_loss=loss, frames=frames)
     return simulate(program, start, options), result.traces[0]
 
 

@@ -70,6 +70,13 @@ def test_the_reversible_car_to_chain_plan_undone_gives_car7_back_exactly() -> No
     assert {m: s.position for m, s in back.modules.items()} == \
         {m: s.position for m, s in car.modules.items()}
     assert back.links() == car.links()
+    # its eleventh step turns the driver's free hemisphere and carries nothing: without it the
+    # same chain, and the same car back (examples/car_to_snake.rdcd)
+    assert ops[10] == Op("rotate", 0, 1) and replay(car, ops[:10]).modules[0].position == \
+        chain.modules[0].position
+    short = ops[:10] + ops[11:]
+    assert FlatChain(7).reached(replay(car, short))
+    assert replay(replay(car, short), [op.inverse() for op in reversed(short)]).links() == car.links()
 
 
 def test_no_sequence_within_the_bounds_is_a_clean_answer() -> None:

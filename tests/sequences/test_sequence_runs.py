@@ -11,6 +11,7 @@ import pytest
 
 from rdcd_core.compiler import compile_model
 from rdcd_core.frontend import check_text
+from rdcd_core.sequences.roles import vm_frames
 from sim.config import load_config
 from sim.run import Options, simulate
 from tests.sequences.shapes import shape, structure_shape
@@ -28,8 +29,10 @@ def run(text: str, config: str, *, loss: float = 0.0, seed: int = 0, duration: f
         start = result.traces[0].final
     program = compile_model(result.model, text=text, reverse=reverse)
     assert not program.has_errors, program.diagnostics
+    # backwards: the robot as the forward run leaves it, each module in the frame it learned
+    frames = vm_frames(result.traces[0].learned) if reverse is not None else {}
     options = Options(world="lattice", config=config, obstacle="none", duration=duration, seed=seed,
-                      packet_loss=loss)
+                      packet_loss=loss, frames=frames)
     return simulate(program, start, options), result.traces[0]
 
 

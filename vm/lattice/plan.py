@@ -344,8 +344,8 @@ def macros(s: Structure, turns: Iterable[int] = TURNS, max_cut: int = 2,
     it that let it happen without splitting the robot (at most ``max_cut``; a cut is minimal: no
     smaller cut found for the same turn is part of it), each once without and once with every
     latch that can close after it. ``keep_entry``: no turn carries the entry module (it defines
-    the frame every module learns its coordinates in, so a sequence that keeps it in place can be
-    run backwards from its end with the same roles)."""
+    the frame a module learns its coordinates in; the modules keep what they learned in the start,
+    forward and backwards, but one that learned its place afresh would learn it in a moved frame)."""
     snap = s.snapshot()
     # ``reversible``: a link between two connectors of one sex (a configuration's) never opens:
     # it could not close again, and the sequence could not be run backwards
