@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 from rdcd_core import diagnostics as diag
@@ -132,7 +133,17 @@ def _check_step(model: Model, step: ast.SeqStep) -> list[diag.Diagnostic]:
 class StepResult:
     step: ast.SeqStep
     module: int | None  # the acting module (None: not found)
-    after: str  # the structure after the step, as text ("" when the run stopped before)
+    # the structure after the step, as text, written when first asked for (hover): a check that
+    # nobody hovers does not pay for finding every module's role after every step
+    describe: Callable[[], str] = field(default=lambda: "", repr=False)
+    _after: str | None = field(default=None, repr=False)
+
+    @property
+    def after(self) -> str:
+        """The structure after the step, as text ("" when the run stopped before)."""
+        if self._after is None:
+            self._after = self.describe()
+        return self._after
 
 
 @dataclass
@@ -195,7 +206,8 @@ def run(model: Model, sequence: ast.Sequence, structure: Any, *, reverse: bool =
                     learned.pop(other, None)
                 elif other not in learned:
                     learned[other] = current.modules[other]
-            trace.results.append(StepResult(step, mid, describe(model, current, learned)))
+            snapshot, known = current.copy(), dict(learned)
+            trace.results.append(StepResult(step, mid, partial(describe, model, snapshot, known)))
     trace.final = current
     _played(trace, *find_roles(model, current, learned))
     return trace
@@ -330,5 +342,40 @@ def lattice_diagnostics(model: Model, config: str | None,
         trace = run(model, sequence, structure)
         traces[index] = trace
         found += trace.diagnostics
+        if loader is load_structure and sequence.config is not None and name == sequence.config.text:
+            _remember(model, sequence, trace)
     return found, traces
+
+
+# the last runs from a sequence's own starting configuration, by model (kept with it, so that its
+# id cannot be reused): the compiler asks for the roles played (lower.roles_played) right after
+# the check ran the same sequence on the same model
+_RUNS: dict[int, tuple[Model, dict[str, Trace]]] = {}
+_RUNS_KEPT = 4
+
+
+def _remember(model: Model, sequence: ast.Sequence, trace: Trace) -> None:
+    kept = _RUNS.get(id(model))
+    if kept is None or kept[0] is not model:
+        while len(_RUNS) >= _RUNS_KEPT:
+            _RUNS.pop(next(iter(_RUNS)))
+        kept = _RUNS[id(model)] = (model, {})
+    kept[1][sequence.name.text] = trace
+
+
+def own_run(model: Model, sequence: ast.Sequence) -> Trace | None:
+    """The run of ``sequence`` from the starting configuration it names, on ``model``; None when
+    it names none or that cannot be loaded."""
+    kept = _RUNS.get(id(model))
+    if kept is not None and kept[0] is model and sequence.name.text in kept[1]:
+        return kept[1][sequence.name.text]
+    if sequence.config is None:
+        return None
+    try:
+        structure = load_structure(sequence.config.text)
+    except (ValueError, OSError):
+        return None
+    trace = run(model, sequence, structure)
+    _remember(model, sequence, trace)
+    return trace
 

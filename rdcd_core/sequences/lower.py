@@ -163,15 +163,13 @@ def roles_played(model: Any, sequence: ast.Sequence) -> set[str] | None:
     configuration the sequence names (rdcd_core/sequences/check.py): before each step and at the
     end. None when that is not known: no configuration named, one that cannot be loaded, a step
     that cannot happen, or a role that depends on values known only at run time."""
-    from rdcd_core.sequences.check import load_structure, run
+    from rdcd_core.sequences.check import own_run
 
-    if sequence.config is None or model.has_errors:
+    if model.has_errors:
         return None
-    try:
-        structure = load_structure(sequence.config.text)
-    except ValueError:
+    trace = own_run(model, sequence)  # the check's own run when it has just made it
+    if trace is None:
         return None
-    trace = run(model, sequence, structure)
     return trace.played if trace.final is not None and not trace.diagnostics else None
 
 
