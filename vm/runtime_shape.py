@@ -207,7 +207,11 @@ class ShapeNode(ModuleNode):
             state.slot = slot
             return
         self._round = None
-        if not state.decided and self.role:  # no role holds any more
+        if not state.decided and self.role != state.start_role:
+            # a program's first run gave the module a role while the round ran on the programs
+            # kept before it: the round's "no role holds" is stale; check again with it kept
+            state.again = True
+        elif not state.decided and self.role:  # no role holds any more
             self._leave_role(0)
             self._take_role(0)
         if state.again:

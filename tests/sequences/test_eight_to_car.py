@@ -222,3 +222,21 @@ def test_a_module_refuses_a_frame_that_is_not_one() -> None:
     options = Options(world="lattice", config="eight7", obstacle="none", duration=1, frames=frames)
     with pytest.raises(ValueError, match="module 3: not a frame"):
         simulate(program, result.traces[0].final.copy(), options)
+
+
+def test_a_round_of_discovery_begun_before_the_role_s_program_arrived_keeps_the_role() -> None:
+    # seed 40 at 20 % loss: module 2 starts a round on the car roles' discovery programs (the only
+    # ones kept then); Piece's program arrives during it and gives the role; the round, which
+    # never ran Piece's program, used to end with "no role holds", drop Piece, and the act
+    # behaviours arriving next skipped their install (HAS_ROLE Piece false): the sequence stopped
+    from sim.run import Options, simulate
+
+    result = check_text(EXAMPLE)
+    program = compile_model(result.model, text=EXAMPLE)
+    options = Options(world="lattice", config="eight7", obstacle="none", duration=90, seed=40,
+                      packet_loss=0.2)
+    report = simulate(program, load_config("eight7"), options)
+    assert _cells(report) == shape_of(result.traces[0].final)
+    done = max(e["t"] for e in report["events"] if e["kind"] in ("connect", "disconnect", "rotation_end"))
+    during = {m["id"]: [role for t, role in m["role_history"] if t <= done] for m in report["modules"]}
+    assert all(roles == ["Piece"] for roles in during.values()), during
