@@ -29,10 +29,10 @@ from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS
 from rdcd_core.sequences.progress import is_rollback
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
+from vm.isa.opcodes import step_action
 
 CODES = 14  # a in 1..13; key * 14 + 13 <= 127 for a key up to 8
 MAX_KEY = (127 - (CODES - 1)) // CODES
-TURNS = (-2, -1, 1, 2)
 # entries of a table statement, the first after the relay: each statement fits a fragment's part
 FIRST, CHUNK = 9, 16
 # one behaviour acts on every code (the DCD-VM's ACT, vm.isa.opcodes.step_action, decodes it):
@@ -66,11 +66,9 @@ def _key(step: ast.SeqStep) -> tuple[str | None, int] | None:
 
 
 def _code(action: str, arg: int) -> int | None:
-    if action in ("connect", "disconnect") and arg in (0, 2, 4, 6):
-        return (5 if action == "connect" else 1) + arg // 2
-    if action == "turnQuarters" and arg in TURNS:
-        return 11 + arg
-    return None
+    """The ACT code of a step: the one the DCD-VM decodes (step_action) as this action, if any."""
+    kind = "turn" if action == "turnQuarters" else action
+    return next((a for a in range(1, CODES) if step_action(a) == (kind, arg)), None)
 
 
 def role_table(name: str, steps: list[ast.SeqStep], role: str,
