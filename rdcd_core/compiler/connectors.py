@@ -12,7 +12,7 @@ OPS = {"connect": "CONNECT", "disconnect": "DISCONNECT", "isConnected": "IS_CONN
        "isAligned": "IS_ALIGNED", "turnQuarters": "TURN_QUARTERS", "act": "ACT"}
 # what the ATRON firmware's API calls them (native/include/atron.h); its DCD-VM has no opcode
 FIRMWARE = {"connect": "_connect", "disconnect": "disconnect", "isConnected": "isConnected",
-            "isAligned": "isOtherConnectorNearby", "turnQuarters": "rotate", "act": "none of them"}
+            "isAligned": "isOtherConnectorNearby", "turnQuarters": "rotate"}
 
 
 def push(name: str, args: tuple, ctx: Context, out: list[Item], span: object) -> None:
@@ -24,9 +24,10 @@ def push(name: str, args: tuple, ctx: Context, out: list[Item], span: object) ->
     else:
         emit(out, "PUSH", 0, span=span)
     if not ctx.has(op):
+        api = (f"the ATRON's C API has {FIRMWARE[name]}() in atron.h, but DCD-VM programs cannot call it"
+               if name in FIRMWARE else "nor has the ATRON's C API one call for every action")
         ctx.cannot(span, f"self.{name}() needs {op}, which the {ctx.target.name} target does not run: the "  # type: ignore[arg-type]
-                         f"firmware's DCD-VM has no instruction for it (the ATRON's C API has "
-                         f"{FIRMWARE[name]}() in atron.h, but DCD-VM programs cannot call it)")
+                         f"firmware's DCD-VM has no instruction for it ({api})")
     emit(out, op, span=span)
 
 
