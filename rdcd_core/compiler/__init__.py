@@ -39,6 +39,9 @@ __all__ = ["TARGETS", "CompiledProgram", "Fragment", "RoleEntry", "add_source_li
            "compile_model", "resolve_target", "target_diagnostics"]
 
 
+UNSENDABLE = "W601"  # a fragment over the packet budget that could not be split
+
+
 def _compact_runs(target: Target) -> bool:
     """Whether ``target`` runs the compact form of sequences: its tables and its one action."""
     return target.implements_name("TABLE") and target.implements_name("ACT")
@@ -94,13 +97,16 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
         from rdcd_core.sequences.limits import slot_limit
 
         over = slot_limit(model, planner.fragments, chosen.program_slots)
-        failed = over or any(d.severity is diag.Severity.ERROR for d in found)
+        # a fragment over the packet budget is only a warning (W601), but the robot never gets it
+        failed = over or any(d.severity is diag.Severity.ERROR or d.code == UNSENDABLE for d in found)
         if failed and not compact and _compact_runs(chosen):
             # too many fragments, or too large: the steps as tables (rdcd_core/sequences/compact.py),
-            # kept if that compiles; a program that compiles keeps its ordinary form, byte for byte
+            # kept if that compiles and sends; a program that does keeps its ordinary form, byte
+            # for byte
             smaller = compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
                                     reverse=reverse, compact=True)
-            if smaller.fragments and not smaller.has_errors:
+            if smaller.fragments and not smaller.has_errors and \
+                    not any(d.code == UNSENDABLE for d in smaller.diagnostics):
                 return smaller
         found.extend(over)
     found.extend(mixin_methods(model))

@@ -77,3 +77,36 @@ def test_compact_lowering_declares_its_states_once() -> None:
     lowered = lower(program, compact=True)
     names = [s.name.text for s in lowered.states]
     assert names.count("s_t") == 1 and names.count("s_k") == 1
+
+
+LONG_KEYS = """role Piece {
+  self.z() <= 0;
+}
+
+sequence carToSnake(car7) {
+  Piece(max(self.x() * 3 + self.y() + 4, self.z() * 2 + self.x()) == 5).turnQuarters(1);
+  Piece(max(self.x() * 3 + self.y() + 4, self.z() * 2 + self.x()) == 8).connect(6);
+  Piece(max(self.x() * 3 + self.y() + 4, self.z() * 2 + self.x()) == 4).disconnect(6);
+}
+
+deployment { Piece }
+"""
+
+
+def test_a_program_whose_ordinary_form_the_robot_would_not_receive_takes_the_compact_form(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # the ordinary form compiles without an error, but two step fragments are over the packet
+    # budget and cannot be split (W601, a warning): the robot would never receive them, so the
+    # compiler tries the tables, which fit
+    import rdcd_core.compiler as compiler
+    from rdcd_core.compiler import compile_model
+
+    result = check_text(LONG_KEYS)
+    with monkeypatch.context() as patched:  # the ordinary form, as a target without ACT gets it
+        patched.setattr(compiler, "_compact_runs", lambda target: False)
+        ordinary = compile_model(result.model, text=LONG_KEYS)
+    assert "W601" in {d.code for d in ordinary.diagnostics} and not ordinary.has_errors
+    program = compile_model(result.model, text=LONG_KEYS)
+    assert not program.has_errors and "W601" not in {d.code for d in program.diagnostics}
+    assert any(s.name == "carToSnake_k" for s in program.states)  # the key, kept once
+    assert max(len(f.code) for f in program.fragments) <= 43
