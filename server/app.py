@@ -119,9 +119,14 @@ class RdcdServer(LanguageServer):
             future = asyncio.get_running_loop().run_in_executor(
                 self.checker, self._analyze, document, version, text, previous, target)
             future.add_done_callback(functools.partial(self._checked, document, version, text, target))
-            document.checking, document.checking_key = future, (version, target)
+            document.checking, document.checking_key, document.checking_text = future, (version, target), text
+        (checked_version, checked_target), checked_text = document.checking_key, document.checking_text
         # shielded: a cancelled request (or debounce) must not cancel a check others wait for
-        await asyncio.shield(document.checking)
+        found = await asyncio.shield(document.checking)
+        if found is not None:
+            # a check that was already done returns here at once, maybe before its done callback
+            # (``_checked``) has run: record it now (``record`` keeps the first, so twice is harmless)
+            document.record(found, checked_version, checked_text, checked_target)
         return document.analysis if document.text is text else None
 
     @staticmethod
@@ -137,7 +142,7 @@ class RdcdServer(LanguageServer):
     def _checked(document: Document, version: int, text: str, target: str, future: asyncio.Future) -> None:
         """On the loop's thread: records what the worker found."""
         if document.checking is future:
-            document.checking = document.checking_key = None
+            document.checking = document.checking_key = document.checking_text = None
         if future.cancelled():
             return
         if future.exception() is not None:

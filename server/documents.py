@@ -27,6 +27,7 @@ class Document:
     pending: asyncio.Task | None = None  # the debounced check
     checking: asyncio.Future | None = None  # the worker's analysis of ``checking_key``
     checking_key: tuple[int, str] | None = None  # (version, target)
+    checking_text: str | None = None  # the text of ``checking_key``'s version
     target: str = "default"  # the setting rdcd.target: what the program is checked for
     _positions: Positions | None = field(default=None, repr=False)
     _index: LineIndex | None = field(default=None, repr=False)
