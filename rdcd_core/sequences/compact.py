@@ -2,25 +2,38 @@
 role as a table, one byte a step, instead of a comparison and a branch per step.
 
 Used when the ordinary form (rdcd_core/sequences/lower.py) does not fit a module's program slots
-(E805) and the target runs TABLE. For a role R whose steps (other than waitUntil's) all name their
-module alike, the relay of R also reads its step code at the progress S::
+(E805, E121, a fragment over the budget: W601) and the target runs TABLE and ACT. For a role R
+whose steps (other than waitUntil's) all name their module alike, a startup keeps the module's
+key once (``S_k := (E) * 14;``) and the relay of R also reads its step code at the progress S::
 
-    S_t := table(S - k0, e_k0, ..., e_k1);
+    S_t := table(S - k0, e_k0, ..., e_k0+8) - S_k; S_t := S_t + table(S - k0 - 9, ...);
 
 with k0..k1 R's first and last steps; e = key * 14 + a (0: not R's step), where key is the value
 of the condition's left side that names the module (``R(E == key)``, 0..8; 0 without a condition)
 and a the action: disconnect(c) 1 + c/2, connect(c) 5 + c/2 (male c 0..6), turnQuarters(n)
-11 + n (n = -2, -1, 1, 2). The relay then keeps a only on the module whose key it is
-(``if (S_t / 14 != E) { S_t := 0; } S_t := S_t % 14;``), and one behaviour per kind of action
-acts on its codes, told apart by one comparison (S_t >= 0)::
+11 + n (n = -2, -1, 1, 2), the codes of the DCD-VM's ACT (vm.isa.opcodes.step_action). After
+the subtraction S_t is a (1..13) on the module of the step only, 14 or more away (or <= 0) on
+the others, where ACT answers false at once doing nothing; one behaviour acts::
 
-    if ((S_t + 3) / 4 == 1) { if (self.disconnect(S_t * 2 - 2)) { S := S + 1; S_t := 0; } }
+    if (self.act(S_t)) { S := S + 1; S_t := 0; }
 
 Only the module of step S can move the progress past S, so the code it read stays the code of the
 step until it acts; ``S_t := 0`` keeps a second run before the next read from acting twice. A
 failed action leaves S, and is tried again. Backwards (``reverse``) the table is the undo of each
-step, read in reverse order. Parallel blocks and rollback keep the ordinary form.
-"""
+step, read in reverse order.
+
+``rollback`` keeps the ordinary form's numbering (lower.py, docs "Rolling back from a program"):
+with n steps the table also holds the undo of step k at progress 2n - k (entry n is 0, and the
+two runs of entries are one table when few zeros lie between), and the behaviour that acts has a
+second statement (the splitter may cut between the two)::
+
+    if (S_t > 0 && S_t < 14 && S < n) { S := 2n + 1 - S; S_t := 0; }
+
+after a failed act S_t still holds the step's code, on the step's module only: a failed step k
+sets 2n - k + 1 ("undo step k - 1 next") and is not tried again; past n a failed undo leaves S,
+and is read and tried again; 2n + 1 (rolled back) is outside every table. A parallel block of a
+rollback sequence runs one step after the other, so it takes the compact form too; without
+rollback a sequence with a parallel block keeps the ordinary form."""
 
 from __future__ import annotations
 

@@ -116,3 +116,28 @@ def test_a_failed_latch_rolls_back_to_the_car(fault: str, loss: float, seed: int
     assert "connect_failed" in [e["kind"] for e in report["events"]]
     assert shape(report) == structure_shape(load_config("car7"))
     assert {m["final_state"]["carToSnake"] for m in report["modules"]} == {2 * N + 1}
+
+
+def test_backwards_with_rollback_gives_the_car_back() -> None:
+    # --reverse-sequence on a rollback sequence: the undos forward, the steps as their undos
+    from rdcd_core.sequences.roles import vm_frames
+
+    result = check_text(CAR)
+    trace = result.traces[0]
+    program = compile_model(result.model, text=CAR, reverse="carToSnake")
+    assert not program.has_errors and program.diagnostics == [] and len(program.fragments) <= 10
+    options = Options(world="lattice", config="car7", obstacle="none", duration=90, seed=0,
+                      frames=vm_frames(trace.learned))
+    report = simulate(program, trace.final.copy(), options)
+    assert shape(report) == structure_shape(load_config("car7"))
+    assert {m["final_state"]["carToSnake"] for m in report["modules"]} == {N}
+
+
+def test_the_simulator_says_rolled_back(tmp_path: Path) -> None:
+    from tests.cli.helpers import rdcd
+
+    path = tmp_path / "car_to_snake_rollback.rdcd"
+    path.write_text(CAR)
+    done = rdcd("simulate", str(path), "--world", "lattice", "--obstacle", "none", "--config", "car7",
+                "--duration", "60", "--change", "0s:fail 3 6")
+    assert done.returncode == 0 and "sequence carToSnake: rolled back" in done.stdout, done.stderr
