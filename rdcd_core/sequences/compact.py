@@ -2,25 +2,38 @@
 role as a table, one byte a step, instead of a comparison and a branch per step.
 
 Used when the ordinary form (rdcd_core/sequences/lower.py) does not fit a module's program slots
-(E805) and the target runs TABLE. For a role R whose steps (other than waitUntil's) all name their
-module alike, the relay of R also reads its step code at the progress S::
+(E805, E121, a fragment over the budget: W601) and the target runs TABLE and ACT. For a role R
+whose steps (other than waitUntil's) all name their module alike, a startup keeps the module's
+key once (``S_k := (E) * 14;``) and the relay of R also reads its step code at the progress S::
 
-    S_t := table(S - k0, e_k0, ..., e_k1);
+    S_t := table(S - k0, e_k0, ..., e_k0+8) - S_k; S_t := S_t + table(S - k0 - 9, ...);
 
 with k0..k1 R's first and last steps; e = key * 14 + a (0: not R's step), where key is the value
 of the condition's left side that names the module (``R(E == key)``, 0..8; 0 without a condition)
 and a the action: disconnect(c) 1 + c/2, connect(c) 5 + c/2 (male c 0..6), turnQuarters(n)
-11 + n (n = -2, -1, 1, 2). The relay then keeps a only on the module whose key it is
-(``if (S_t / 14 != E) { S_t := 0; } S_t := S_t % 14;``), and one behaviour per kind of action
-acts on its codes, told apart by one comparison (S_t >= 0)::
+11 + n (n = -2, -1, 1, 2), the codes of the DCD-VM's ACT (vm.isa.opcodes.step_action). After
+the subtraction S_t is a (1..13) on the module of the step only, 14 or more away (or <= 0) on
+the others, where ACT answers false at once doing nothing; one behaviour acts::
 
-    if ((S_t + 3) / 4 == 1) { if (self.disconnect(S_t * 2 - 2)) { S := S + 1; S_t := 0; } }
+    if (self.act(S_t)) { S := S + 1; S_t := 0; }
 
 Only the module of step S can move the progress past S, so the code it read stays the code of the
 step until it acts; ``S_t := 0`` keeps a second run before the next read from acting twice. A
 failed action leaves S, and is tried again. Backwards (``reverse``) the table is the undo of each
-step, read in reverse order. Parallel blocks and rollback keep the ordinary form.
-"""
+step, read in reverse order.
+
+``rollback`` keeps the ordinary form's numbering (lower.py, docs "Rolling back from a program"):
+with n steps the table also holds the undo of step k at progress 2n - k (entry n is 0, and the
+two runs of entries are one table when few zeros lie between), and the behaviour that acts has a
+second statement (the splitter may cut between the two)::
+
+    if (S_t > 0 && S_t < 14 && S < n) { S := 2n + 1 - S; S_t := 0; }
+
+after a failed act S_t still holds the step's code, on the step's module only: a failed step k
+sets 2n - k + 1 ("undo step k - 1 next") and is not tried again; past n a failed undo leaves S,
+and is read and tried again; 2n + 1 (rolled back) is outside every table. A parallel block of a
+rollback sequence runs one step after the other, so it takes the compact form too; without
+rollback a sequence with a parallel block keeps the ordinary form."""
 
 from __future__ import annotations
 
@@ -38,11 +51,19 @@ FIRST, CHUNK = 9, 16
 # one behaviour acts on every code (the DCD-VM's ACT, vm.isa.opcodes.step_action, decodes it):
 # one command number for the role's actions, where a behaviour per kind took three
 ACT = "if (self.act({t})) {{ {name} := {name} + 1; {t} := 0; }}"
+# rollback: after a failed act, S_t still holds the step's code (1..13) on the module of the step
+# only (ACT does nothing for any other value, a success sets it 0); at a forward step k (< n) the
+# progress goes to 2n - k + 1, "undo step k - 1 next", and the step is not tried again. An undo
+# (progress > n) that fails leaves S_t to be read again: it is tried again.
+FAILED = "if ({t} > 0 && {t} < {codes} && {name} < {n}) {{ {name} := {back} - {name}; {t} := 0; }}"
+# zeros between the forward and the undo entries that cost less than a table statement of their own
+UNDO_GAP = 4
 
 
 def applies(sequence: ast.Sequence) -> bool:
-    """Steps one after the other, no rollback: the only sequences with a compact form."""
-    return not is_rollback(sequence) and all(isinstance(item, ast.SeqStep) for item in sequence.items)
+    """Steps one after the other: the only sequences with a compact form (with ``rollback`` the
+    steps of a parallel block run one after the other too, progress.progress_plan)."""
+    return is_rollback(sequence) or all(isinstance(item, ast.SeqStep) for item in sequence.items)
 
 
 def _constant(node: ast.Node) -> int | None:
@@ -65,20 +86,44 @@ def _key(step: ast.SeqStep) -> tuple[str | None, int] | None:
     return None
 
 
+def _step_code(action: str, arg: int, inverse: bool) -> int | None:
+    """The ACT code of a step, or of its undo (``inverse``: the inverse action, the turn negated)."""
+    if inverse:
+        action = INVERSE[action]
+        if action == "turnQuarters":
+            arg = -arg
+    return _code(action, arg)
+
+
 def _code(action: str, arg: int) -> int | None:
     """The ACT code of a step: the one the DCD-VM decodes (step_action) as this action, if any."""
     kind = "turn" if action == "turnQuarters" else action
     return next((a for a in range(1, CODES) if step_action(a) == (kind, arg)), None)
 
 
-def role_table(name: str, steps: list[ast.SeqStep], role: str,
-               reverse: bool) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
+def _ranges(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """The progress values the table statements cover: each span (first, last), two joined when
+    the zeros between them cost less than a statement of their own."""
+    out: list[tuple[int, int]] = []
+    for first, last in sorted(spans):
+        if out and first - out[-1][1] - 1 <= UNDO_GAP:
+            out[-1] = (out[-1][0], max(out[-1][1], last))
+        else:
+            out.append((first, last))
+    return out
+
+
+def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
+               rollback: bool = False) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
     """(the table read after the relay, the key's startup statement, the behaviours that act) of
     ``role``'s steps, None when one of them has no compact code (its condition is not
-    ``E == key``, or another E, or an argument outside the codes)."""
+    ``E == key``, or another E, or an argument outside the codes). ``rollback``: with n steps,
+    the table also holds the undo of step k at progress 2n - k, and the behaviour that acts sets
+    the progress to 2n - k + 1 when step k fails (lower.py's numbering, "Rolling back")."""
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
     if not mine:
         return None
+    n = len(steps)
     left: set[str | None] = set()
     entries: dict[int, int] = {}
     for k, step in mine:
@@ -88,34 +133,42 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str,
         arg = _constant(step.args[0]) if not isinstance(step.args[0], ast.Block) else None
         if key is None or arg is None:
             return None
-        action = INVERSE[step.action.text] if reverse else step.action.text
-        if reverse and action == "turnQuarters":
-            arg = -arg
-        code = _code(action, arg)
-        if code is None:
+        code = _step_code(step.action.text, arg, reverse)
+        undo = _step_code(step.action.text, arg, not reverse) if rollback else 0
+        if code is None or undo is None:
             return None
         left.add(key[0])
         entries[k] = key[1] * CODES + code
+        if rollback:  # the undo of step k runs at progress 2n - k (lower.py)
+            entries[2 * n - k] = key[1] * CODES + undo
     if len(left) != 1:
         return None
     k0, k1 = mine[0][0], mine[-1][0]
+    # rollback: the undos in a second run of entries, 2n - k1..2n - k0 (one table indexed by
+    # min(S, 2n - S) with the code turned into its undo's past n was measured larger: car_to_snake
+    # 206 bytes and a fragment that cannot be split, against 168)
+    spans = [(k0, k1)] + ([(2 * n - k1, 2 * n - k0)] if rollback else [])
     t = f"{name}_t"
     side = left.pop()
     k = f"{name}_k"
-    reads = []  # the first statement follows the relay in the behaviour's first part
-    start = k0
-    while start <= k1:
-        end = min(start + (FIRST if start == k0 else CHUNK), k1 + 1)
-        values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
-        index = f"{name} - {start}" if start else name
-        reads.append(f"{t} := table({index}, {values}){f' - {k}' if side else ''};" if start == k0
-                     else f"{t} := {t} + table({index}, {values});")  # one index in its table
-        start = end
+    reads: list[str] = []  # the first statement follows the relay in the behaviour's first part
+    for first, last in _ranges(spans):
+        start = first
+        while start <= last:
+            end = min(start + (CHUNK if reads else FIRST), last + 1)
+            values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
+            index = f"{name} - {start}" if start else name
+            reads.append(f"{t} := {t} + table({index}, {values});" if reads
+                         else f"{t} := table({index}, {values}){f' - {k}' if side else ''};")
+            start = end  # one index in its table: outside it, table() is 0
     read = " ".join(reads)
     # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
     # only; on the others 14 or more away (or <= 0)
     startup = f"{k} := ({side}) * {CODES};" if side else None
     # ACT answers false at once, doing nothing, for a code that is no step's (0, <= 0 or >= 14
     # away from this module's key): the modules whose step it is not
-    acts = [(f"behavior {t}_{role}() {{ {ACT.format(t=t, name=name)} }}", mine[0][1].span)]
+    act = ACT.format(t=t, name=name)
+    if rollback:  # a second statement, so that the splitter may cut between the two
+        act += " " + FAILED.format(t=t, name=name, n=n, back=2 * n + 1, codes=CODES)
+    acts = [(f"behavior {t}_{role}() {{ {act} }}", mine[0][1].span)]
     return read, startup, acts

@@ -110,7 +110,7 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     name = sequence.name.text
     steps = ordered_steps(sequence, reverse)
     tables = {role: found for role in deployed if compact and applies(sequence)
-              and (found := role_table(name, steps, role, reverse)) is not None}
+              and (found := role_table(name, steps, role, reverse, is_rollback(sequence))) is not None}
     out: dict[str, list[tuple[str, Span]]] = {
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); "
                 f"{tables[role][0] if role in tables else ''} }}", sequence.header_span)]
