@@ -16,7 +16,7 @@ tests/sequences/parallel_turns.rdcd and the same turns one after the other).
 ``--rollback``: one step fails at random in every run (a seeded choice among the latch and
 unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a latch ``fail`` — it does
 not close, once; vm/lattice/outside.py); counts the runs that end in the start shape, the target
-shape, or in between (eight_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
+shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from vm.lattice.outside import parse_all  # noqa: E402
 
 STRUCTURE_EVENTS = ("connect", "disconnect", "rotation_end")
 EIGHT = ROOT / "examples" / "eight_to_snake.rdcd"
+CAR_TO_SNAKE = ROOT / "examples" / "car_to_snake.rdcd"
 DATA = ROOT / "tests" / "sequences"
 
 
@@ -178,9 +179,15 @@ def faults_for(text: str) -> list[str]:
 def main_rollback(args: argparse.Namespace) -> None:
     eight = EIGHT.read_text().replace("sequence eightToSnake(eight7) {",
                                       "sequence eightToSnake(eight7) rollback {")
-    cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text())]
+    car = CAR_TO_SNAKE.read_text().replace("sequence carToSnake(car7) {",
+                                           "sequence carToSnake(car7) rollback {")
+    cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text()),
+             ("car_to_snake (rollback, compact form)", car)]
     for loss in [float(x) for x in args.losses.split(",")]:
         for title, text in cases:
+            if args.case not in title:
+                continue
+            config = check_text(text).program.sequences[0].config.text
             program, start, target, _ = prepare(text, False, "")
             begin = shape_of(start)
             name = check_text(text).program.sequences[0].name.text
@@ -191,14 +198,14 @@ def main_rollback(args: argparse.Namespace) -> None:
             for seed in range(args.seeds):
                 fault = random.Random(seed).choice(faults)
                 chosen[fault] += 1
-                options = Options(world=args.world, config="eight7", obstacle="none", duration=args.duration,
+                options = Options(world=args.world, config=config, obstacle="none", duration=args.duration,
                                   seed=seed, packet_loss=loss, outside_changes=parse_all([fault]))
                 report = simulate(program, start.copy(), options)
                 final = shape_of_report(report)
                 end = "start" if final == begin else "target" if final == target else "between"
                 ends[end] += 1
                 if end == "between":  # run it again four times as long: only later, or never?
-                    longer = Options(world=args.world, config="eight7", obstacle="none",
+                    longer = Options(world=args.world, config=config, obstacle="none",
                                      duration=4 * args.duration, seed=seed, packet_loss=loss,
                                      outside_changes=parse_all([fault]))
                     again = shape_of_report(simulate(program, start.copy(), longer))
@@ -223,6 +230,7 @@ def main() -> int:
     parser.add_argument("--duration", type=float, default=30.0)
     parser.add_argument("--parallel", action="store_true", help="sequential against parallel steps")
     parser.add_argument("--rollback", action="store_true", help="one step failing at random, with rollback")
+    parser.add_argument("--case", default="", help="with --rollback: only the cases whose title holds this")
     args = parser.parse_args()
     if args.parallel:
         main_parallel(args)
