@@ -13,36 +13,34 @@ from server.documents import Document
 TEXT = "role Wheel { self.center_position == EAST_WEST; }\ndeployment { Wheel }\n"
 
 
-def test_a_request_joining_a_check_done_before_its_callback_ran_gets_its_analysis() -> None:
+def _joined(document: Document, checked_text: str, edit: str | None = None) -> object:
+    """What ``analysis_of`` answers for ``document`` (edited to ``edit`` as version 2 first, if
+    given) while the document's check is a finished check of version 1 with ``checked_text``'s
+    analysis whose done callbacks are queued on the loop, not run."""
     server = create_server()
-    document = Document("file:///share/a.rdcd", 1, TEXT)
 
     async def scenario() -> object:
-        loop = asyncio.get_running_loop()
-        # a check of this version, finished, whose done callback is still queued on the loop
-        finished = loop.create_future()
+        finished = asyncio.get_running_loop().create_future()
         finished.add_done_callback(lambda future: None)
-        finished.set_result(analyze(TEXT))  # callbacks are scheduled, not run
+        finished.set_result(analyze(checked_text))  # callbacks are scheduled, not run
+        if edit is not None:
+            document.update(edit, 2)
         document.checking, document.checking_key, document.checking_text = finished, (1, "default"), TEXT
-        return await server.analysis_of(document)  # no await yields before the answer
+        return await server.analysis_of(document)
 
-    found = asyncio.run(scenario())
+    try:
+        return asyncio.run(scenario())
+    finally:
+        server.checker.shutdown(wait=False)
+
+
+def test_a_request_joining_a_check_done_before_its_callback_ran_gets_its_analysis() -> None:
+    document = Document("file:///share/a.rdcd", 1, TEXT)
+    found = _joined(document, TEXT)  # no await yields before the answer
     assert found is not None and found is document.analysis
-    server.checker.shutdown(wait=False)
 
 
 def test_a_check_of_an_older_version_is_not_taken_for_the_current_text() -> None:
-    server = create_server()
     document = Document("file:///share/b.rdcd", 1, TEXT)
-
-    async def scenario() -> object:
-        loop = asyncio.get_running_loop()
-        old = loop.create_future()
-        old.set_result(analyze("role Old { }\ndeployment { Old }\n"))
-        document.update(TEXT + "\n", 2)
-        document.checking, document.checking_key, document.checking_text = old, (1, "default"), TEXT
-        return await server.analysis_of(document)  # starts a check of version 2 instead
-
-    found = asyncio.run(scenario())
+    found = _joined(document, "role Old { }\ndeployment { Old }\n", edit=TEXT + "\n")  # checks v2
     assert found is not None and found is document.analysis and "Old" not in found.model.roles
-    server.checker.shutdown(wait=False)
