@@ -41,7 +41,8 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
     if op in ("==", "!=") and type_of(left, ctx) is Type.BOOL:
         _bool_equality(left, right, target, when == (op == "=="), ctx, out)
         return
-    if op in ("==", "!=") and constant is None and ctx.has("EQUALS") and _reads_state(expr, ctx):
+    if (op in ("==", "!=") and ctx.has("EQUALS") and _reads_state(expr, ctx)
+            and (constant is None or not (0 <= constant.value <= 4))):
         g.value(left, ctx, out)  # a value read from state: EQUALS instead of reading it twice
         g.value(right, ctx, out)
         g.emit(out, "EQUALS", span=span)

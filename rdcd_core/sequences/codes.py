@@ -67,7 +67,7 @@ TOO_MANY_FRAGMENTS = define_code(
     "the program with its sequences compiles to more fragments than a module has program slots",
     "role A { self.center_position == EAST_WEST; }\nrole B { self.center_position == NORTH_SOUTH; }\n"
     "role C { self.center_position == UP_DOWN; }\nsequence s {\n"
-    + "  A.waitUntil(1 == 1); B.waitUntil(1 == 1); C.waitUntil(1 == 1);\n" * 3
+    + "  A.waitUntil(1 == 1); B.waitUntil(1 == 1); C.waitUntil(1 == 1);\n" * 4
     + "}\ndeployment { A, B, C }")
 PROGRESS_RANGE = define_code(
     "E806", _E,

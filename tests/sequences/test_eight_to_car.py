@@ -56,7 +56,7 @@ def test_run_backwards_the_eight_comes_back_same_cells_same_connections(found) -
 
 def test_the_checker_runs_the_sequence_to_the_car() -> None:
     result = check_text(TEXT)
-    # of the sequence none: E805 (29 fragments, test below) and fragments over 43 bytes only
+    # of the sequence none: E805 (27 fragments, test below) and fragments over 43 bytes only
     assert {d.code for d in result.diagnostics} <= {"W601", "E805"}
     final = result.traces[0].final
     assert Goal(load_config("car7")).reached(final)
@@ -79,11 +79,11 @@ def test_backwards_roles_by_the_eights_cells_name_the_same_modules() -> None:
 
 
 def test_a_role_per_module_does_not_fit_ten_program_slots() -> None:
-    # 23 steps by seven roles: 29 fragments in the ordinary form; the compact form (a table a
+    # 23 steps by seven roles: 27 fragments in the ordinary form; the compact form (a table a
     # role) does not help seven roles either, so the program stays as it was, with E805
     result = check_text(TEXT)
     program = compile_model(result.model, text=TEXT)
-    assert len(program.fragments) == 29 and "E805" in {d.code for d in program.diagnostics}
+    assert len(program.fragments) == 27 and "E805" in {d.code for d in program.diagnostics}
 
 
 EXAMPLE = (ROOT / "examples" / "eight_to_car.rdcd").read_text()
@@ -98,14 +98,14 @@ def test_the_example_one_role_by_keys_fits_as_tables() -> None:
     # examples/eight_to_car.rdcd: the same 23 steps, one role, each module named by a key on the
     # coordinates it learned in the eight: the compact form (tables and one ACT behaviour, 4
     # fragments, 126 bytes), then the car's roles (no relay: the checker's model shows no module
-    # plays them while the sequence runs): 10 fragments in all (29 with a role per module)
+    # plays them while the sequence runs): 10 fragments in all (27 with a role per module)
     result = check_text(EXAMPLE)
     assert result.diagnostics == []
     assert Goal(load_config("car7")).reached(result.traces[0].final)
     assert result.traces[0].played == {"Piece"}
     program = compile_model(result.model, text=EXAMPLE)
     assert not program.has_errors and len(program.fragments) == 10
-    assert sum(len(f.code) for f in program.fragments) == 359
+    assert sum(len(f.code) for f in program.fragments) == 353
     assert all(len(f.code) <= 43 for f in program.fragments)
     assert any(b == 80 for f in program.fragments for b in f.code)  # TABLE
     assert sum(f.code.count(95) for f in program.fragments if f.name.startswith("Piece")) >= 1  # ACT
