@@ -17,11 +17,16 @@ tests/sequences/parallel_turns.rdcd and the same turns one after the other).
 unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a latch ``fail`` — it does
 not close, once; vm/lattice/outside.py); counts the runs that end in the start shape, the target
 shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
+
+``--crawl``: car_to_snake in the physics world, forward and backwards: how far the robot's centre
+moves (net, start to end) from the moment the first module hears that the sequence is done to the
+end of the run: the chain's crawl forward, the car given back standing still backwards.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import random
 import statistics
 import sys
@@ -220,6 +225,35 @@ def main_rollback(args: argparse.Namespace) -> None:
                 print(f"    {line}", flush=True)
 
 
+def main_crawl(args: argparse.Namespace) -> None:
+    text = CAR_TO_SNAKE.read_text()
+    name = check_text(text).program.sequences[0].name.text
+    done = next(iter(finals(text)))
+    for reverse, seeds in ((False, args.seeds), (True, args.reverse_seeds)):
+        program, start, goal, frames = prepare(text, reverse, name)
+        for loss in [float(x) for x in args.losses.split(",")]:
+            nets, spans, missed = [], [], []
+            for seed in range(seeds):
+                options = Options(world="physics", config="car7", obstacle="none", duration=args.duration,
+                                  seed=seed, packet_loss=loss, frames=frames)
+                report = simulate(program, start.copy(), options)
+                heard = [t for m in report["modules"] for t, state, value in m["state_history"]
+                         if state == name and value == done]
+                if not heard or shape_of_report(report) != goal:
+                    missed.append(f"seed {seed}: {cause(report, goal, name, {done})}")
+                    continue
+                path = [p for p in report["trajectory"] if p[0] >= min(heard)]
+                nets.append(math.dist(path[0][1:3], path[-1][1:3]))
+                spans.append(path[-1][0] - path[0][0])
+            figures = (f"net {statistics.median(nets):.3f} m median (min {min(nets):.3f}, max "
+                       f"{max(nets):.3f}) in {statistics.median(spans):.1f} s median" if nets else "no run")
+            way = "backwards" if reverse else "forward"
+            print(f"car_to_snake {way}, loss {loss:.0%}: {len(nets)}/{seeds} done and in the target "
+                  f"shape; after done: {figures}", flush=True)
+            for line in missed:
+                print(f"    {line}", flush=True)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("files", nargs="*", default=[str(EIGHT)])
@@ -230,12 +264,16 @@ def main() -> int:
     parser.add_argument("--duration", type=float, default=30.0)
     parser.add_argument("--parallel", action="store_true", help="sequential against parallel steps")
     parser.add_argument("--rollback", action="store_true", help="one step failing at random, with rollback")
+    parser.add_argument("--crawl", action="store_true",
+                        help="car_to_snake in physics: the distance moved once the sequence is done")
     parser.add_argument("--case", default="", help="with --rollback: only the cases whose title holds this")
     args = parser.parse_args()
     if args.parallel:
         main_parallel(args)
     elif args.rollback:
         main_rollback(args)
+    elif args.crawl:
+        main_crawl(args)
     else:
         main_default(args)
     return 0

@@ -23,7 +23,7 @@ from vm.lattice.outside import parse_all
 ROOT = Path(__file__).resolve().parents[2]
 CAR = (ROOT / "examples" / "car_to_snake.rdcd").read_text().replace(
     "sequence carToSnake(car7) {", "sequence carToSnake(car7) rollback {")
-N = 11  # carToSnake's steps: 2n + 1 = 23 is "rolled back"
+N = 12  # carToSnake's steps: 2n + 1 = 25 is "rolled back"
 
 
 def _sequence(steps: str, modifier: str = "rollback"):  # noqa: ANN202 - the parsed program
