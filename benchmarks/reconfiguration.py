@@ -18,6 +18,14 @@ unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a lat
 not close, once; vm/lattice/outside.py); counts the runs that end in the start shape, the target
 shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
 
+``--overlap FILE``: which neighbouring steps of an example could form a parallel block: both orders
+run in the lattice model and end in the same structure, and they touch different modules (the
+checker's rule for a block); with the time each step took in a lattice run without loss (from the
+module's action to the progress it sets, first heard anywhere: waiting for code or progress is
+left out, a block does not shorten it), what blocks of such steps would save at most. An
+estimate: neither example fits a module's program slots with parallel blocks (the compact form
+runs a block's steps one after the other).
+
 ``--crawl``: car_to_snake in the physics world, forward and backwards: how far the robot's centre
 moves (net, start to end) from the moment the first module hears that the sequence is done to the
 end of the run: the chain's crawl forward, the car given back standing still backwards.
@@ -46,6 +54,7 @@ from sim.config import load_config  # noqa: E402
 from sim.run import Options, simulate  # noqa: E402
 from vm.lattice.outside import parse_all  # noqa: E402
 
+TOO_BIG = {"E121", "E805"}  # what a program with parallel blocks may meet, not the lattice model
 STRUCTURE_EVENTS = ("connect", "disconnect", "rotation_end")
 EIGHT = ROOT / "examples" / "eight_to_snake.rdcd"
 CAR_TO_SNAKE = ROOT / "examples" / "car_to_snake.rdcd"
@@ -225,6 +234,61 @@ def main_rollback(args: argparse.Namespace) -> None:
                 print(f"    {line}", flush=True)
 
 
+def _reordered(text: str, lines: list[int], order: list[int]) -> str:
+    out = text.split("\n")
+    steps = [out[i] for i in lines]
+    for i, k in zip(lines, order, strict=True):
+        out[i] = steps[k]
+    return "\n".join(out)
+
+
+def main_overlap(args: argparse.Namespace) -> None:
+    for path in args.files:
+        text = Path(path).read_text(encoding="utf-8")
+        result = check_text(text)
+        sequence = result.program.sequences[0]
+        name, config = sequence.name.text, sequence.config.text
+        final = shape_of(result.traces[0].final)
+        lines = [i for i, line in enumerate(text.split("\n"))
+                 if any(line.strip().startswith(f"{s.role.text}(") for s in steps_of(sequence))]
+        report = simulate(compile_model(result.model, text=text), load_config(config),
+                          Options(world="lattice", config=config, obstacle="none", duration=args.duration))
+        first = {0: 0.0}
+        for m in report["modules"]:
+            for t, state, value in m["state_history"]:
+                if state == name and (value not in first or t < first[value]):
+                    first[value] = t
+        n = len(lines)
+        modules = [r.module for r in result.traces[0].results]
+        acted = [max((e["t"] for e in report["events"] if e["kind"] == "action"
+                      and e["module"] == modules[k] and e["t"] <= first[k + 1]), default=first[k])
+                 for k in range(n)]
+        spans = [first[k + 1] - acted[k] for k in range(n)]  # from the action to its progress
+        free = []
+        for a in range(n - 1):
+            order = list(range(n))
+            order[a], order[a + 1] = a + 1, a
+            swapped = check_text(_reordered(text, lines, order))
+            block = text.split("\n")
+            block[lines[a]] = "  parallel { " + block[lines[a]].split("//")[0].strip()
+            block[lines[a + 1]] = "  " + block[lines[a + 1]].split("//")[0].strip() + " }"
+            as_block = check_text("\n".join(block))
+            found = (*swapped.diagnostics, *as_block.diagnostics)
+            model_says = [d.code for d in found if d.code not in TOO_BIG]  # E121, E805: not the model's
+            if (not model_says and swapped.traces[0].final is not None
+                    and shape_of(swapped.traces[0].final) == final):
+                free.append(a)
+        best = [0.0] * (n + 1)  # at most one block per neighbouring pair, pairs disjoint
+        for k in range(2, n + 1):
+            saved = min(spans[k - 2], spans[k - 1]) if k - 2 in free else 0.0
+            best[k] = max(best[k - 1], best[k - 2] + saved)
+        print(f"{Path(path).name}: {n} steps, {first[n]:.2f} s one after the other (lattice, no loss); "
+              f"steps that could share a block: {', '.join(f'{a + 1}+{a + 2}' for a in free) or 'none'}; "
+              f"pairs of them as blocks would save at most {best[n]:.2f} s", flush=True)
+        times = ", ".join(f"{k + 1}: {s:.2f}" for k, s in enumerate(spans))
+        print(f"    each step's action, seconds: {times}", flush=True)
+
+
 def main_crawl(args: argparse.Namespace) -> None:
     text = CAR_TO_SNAKE.read_text()
     name = check_text(text).program.sequences[0].name.text
@@ -264,6 +328,8 @@ def main() -> int:
     parser.add_argument("--duration", type=float, default=30.0)
     parser.add_argument("--parallel", action="store_true", help="sequential against parallel steps")
     parser.add_argument("--rollback", action="store_true", help="one step failing at random, with rollback")
+    parser.add_argument("--overlap", action="store_true",
+                        help="which neighbouring steps could run in parallel, and what it would save")
     parser.add_argument("--crawl", action="store_true",
                         help="car_to_snake in physics: the distance moved once the sequence is done")
     parser.add_argument("--case", default="", help="with --rollback: only the cases whose title holds this")
@@ -274,6 +340,8 @@ def main() -> int:
         main_rollback(args)
     elif args.crawl:
         main_crawl(args)
+    elif args.overlap:
+        main_overlap(args)
     else:
         main_default(args)
     return 0

@@ -7,7 +7,8 @@ byte of ``ModuleRuntime.state``); the runtime logs every change as (t, index, va
 - ``final_state``: ``{"name": value}`` of every module state, and of every role state of the role
   the module plays at the end (its own role or one it extends). A role state of another role is
   left out: its byte holds a value of a role the module no longer plays, which means nothing.
-- ``state_history``: ``[[t, "name", value], ...]``, every change in time order, the last
+- ``state_history``: ``[[t, "name", value], ...]``, every change in time order (writes in one
+  instant are one change, or none when they give the value back: vm/runtime.py), the last
   ``MAX_STATE_HISTORY`` of them (``state_history_omitted`` counts the earlier ones left out). A role
   state changes only while its role is played; taking the role sets it back to its initial value,
   which is a change like any other.

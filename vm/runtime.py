@@ -88,7 +88,11 @@ class ModuleRuntime(ShapeNode):
         self._changed_in_run = False  # a value changed during the run in progress
         self._running_slot: Slot | None = None  # the program of the run in progress (LOAD/STORE_DATA)
         self._published: list[int | None] = [None] * PUBLISHED_SLOTS  # last value sent of each
-        self.state_history: list[tuple[float, int, int]] = []  # (t, state, value) on every change
+        # (t, state, value) on every change: several writes of one state in one instant are one
+        # change (the value at its end), and none when they give the value back (a compact
+        # sequence's step code is computed in two writes on every run of its relay)
+        self.state_history: list[tuple[float, int, int]] = []
+        self._instant: tuple[float, int, int] | None = None  # (t, state, value before) of the last entry
 
     # ---- world interface -------------------------------------------------------------------
     def needs_step(self, events: bool = True) -> bool:
@@ -392,12 +396,25 @@ class ModuleRuntime(ShapeNode):
     def load_state(self, index: int) -> int:
         return self.state[index]
 
+    def _log_state(self, index: int, old: int, value: int) -> None:
+        now, history = self.hal.now(), self.state_history
+        if self._instant is not None and self._instant[:2] == (now, index) and history:
+            before = self._instant[2]
+            history.pop()
+            if value == before:  # back to the value before this instant: no change
+                self._instant = None
+                return
+            history.append((now, index, value))
+            return
+        self._instant = (now, index, old)
+        history.append((now, index, value))
+        del history[:-MAX_LOG]
+
     def store_state(self, index: int, value: int) -> None:
         old = self.state[index]
         self.state[index] = value
         if old != value:
-            self.state_history.append((self.hal.now(), index, value))
-            del self.state_history[:-MAX_LOG]
+            self._log_state(index, old, value)
             self._values_changed()
         if index < PUBLISHED_SLOTS and self._published[index] != value:
             self._published[index] = value
