@@ -49,6 +49,20 @@ def test_store_then_load() -> None:
     assert vm.state[20] == 42 and vm.state_history[-1][1:] == (20, 42)
 
 
+def test_writes_in_one_instant_are_one_change_in_the_history() -> None:
+    vm = module()
+    stack_of("PUSH 5\nSTORE_STATE 9\nPUSH 6\nSTORE_STATE 9", vm)  # one instant: the value at its end
+    assert vm.state_history == [(0.0, 9, 6)]
+    vm.hal.t = 1.0  # type: ignore[attr-defined]
+    stack_of("PUSH -50\nSTORE_STATE 9\nPUSH 6\nSTORE_STATE 9", vm)  # back to 6: no change
+    assert vm.state_history == [(0.0, 9, 6)]
+    stack_of("PUSH 1\nSTORE_STATE 10\nPUSH 7\nSTORE_STATE 9\nPUSH 8\nSTORE_STATE 9", vm)
+    assert vm.state_history == [(0.0, 9, 6), (1.0, 10, 1), (1.0, 9, 8)]
+    vm.hal.t = 2.0  # type: ignore[attr-defined]
+    stack_of("PUSH 9\nSTORE_STATE 9", vm)
+    assert vm.state_history[-1] == (2.0, 9, 9) and len(vm.state_history) == 4
+
+
 def test_a_published_state_is_sent_once_per_change_to_every_neighbour() -> None:
     vm = module(connected={0, 5})
     stack_of("PUSH 7\nSTORE_STATE 2\nPUSH 7\nSTORE_STATE 2\nPUSH 8\nSTORE_STATE 2", vm)
