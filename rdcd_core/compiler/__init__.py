@@ -8,6 +8,8 @@ role, plain methods inlined), ``peephole``, ``layout``, ``plan`` (splitting and 
 
 from __future__ import annotations
 
+import dataclasses
+
 from rdcd_core import diagnostics as diag
 from rdcd_core.compiler import codes  # noqa: F401  (registers the diagnostic codes)
 from rdcd_core.compiler.chain import spare_numbers
@@ -66,13 +68,23 @@ def compile_model(model: Model, *, packet_budget: int = DEFAULT_PACKET_BUDGET, s
 
         original = model
         model = lowered_model(model, reverse, compact)
+        why_not_tables = ""
         if model.has_errors and not compact and _compact_runs(chosen):
             tables = lowered_model(original, reverse, True)  # too many behaviours for a role (E121)?
             if not tables.has_errors:
-                return compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
-                                     reverse=reverse, compact=True)
+                smaller = compile_model(original, packet_budget=packet_budget, target=chosen, text=text,
+                                        reverse=reverse, compact=True)
+                unfit = [d for d in smaller.diagnostics
+                         if d.severity is diag.Severity.ERROR or d.code == UNSENDABLE]
+                if smaller.fragments and not unfit:
+                    return smaller
+                # the error is the ordinary form's, which the program is written in; the tables'
+                # own failure (a fragment of the compiler's making) says why they did not help
+                why_not_tables = (f"; the steps as tables (the compact form) do not fit either "
+                                  f"({unfit[0].code}: {unfit[0].message.split(';')[0]})" if unfit else "")
         if model.has_errors:
-            errors = [d for d in model.diagnostics if d.severity is diag.Severity.ERROR]
+            errors = [dataclasses.replace(d, message=d.message + why_not_tables)
+                      for d in model.diagnostics if d.severity is diag.Severity.ERROR]
             return CompiledProgram([], [], [], packet_budget, errors, target=chosen.name)
     table = build_role_table(model)
     commands = assign_command_numbers(model)

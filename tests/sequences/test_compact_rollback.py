@@ -152,3 +152,15 @@ def test_the_simulator_says_rolled_back(tmp_path: Path) -> None:
     done = rdcd("simulate", str(path), "--world", "lattice", "--obstacle", "none", "--config", "car7",
                 "--duration", "60", "--change", "0s:fail 3 6")
     assert done.returncode == 0 and "sequence carToSnake: rolled back" in done.stdout, done.stderr
+
+
+def test_a_rollback_sequence_that_fits_neither_form_gets_the_ordinary_error_and_why_tables_failed() -> None:
+    # eight_to_car with rollback: E121 in the form it is written in, and the tables' own E601
+    text = (ROOT / "examples" / "eight_to_car.rdcd").read_text().replace(
+        "sequence eightToCar(eight7) {", "sequence eightToCar(eight7) rollback {")
+    result = check_text(text)
+    program = compile_model(result.model, text=text)
+    assert not program.fragments and program.has_errors
+    assert {d.code for d in program.diagnostics} == {"E121"}
+    assert all("the steps as tables (the compact form) do not fit either (E601: fragment" in d.message
+               for d in program.diagnostics)
