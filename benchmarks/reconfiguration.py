@@ -246,7 +246,10 @@ def main_overlap(args: argparse.Namespace) -> None:
     for path in args.files:
         text = Path(path).read_text(encoding="utf-8")
         result = check_text(text)
-        sequence = result.program.sequences[0]
+        sequence = result.program.sequences[0] if result.program.sequences else None
+        if sequence is None or sequence.config is None or result.has_errors or result.traces[0].final is None:
+            print(f"{Path(path).name}: needs a sequence with a configuration that checks clean", flush=True)
+            continue
         name, config = sequence.name.text, sequence.config.text
         final = shape_of(result.traces[0].final)
         lines = [i for i, line in enumerate(text.split("\n"))
@@ -259,6 +262,9 @@ def main_overlap(args: argparse.Namespace) -> None:
                 if state == name and (value not in first or t < first[value]):
                     first[value] = t
         n = len(lines)
+        if n not in first:
+            print(f"{Path(path).name}: not done in {args.duration:g} s; give a longer --duration", flush=True)
+            continue
         modules = [r.module for r in result.traces[0].results]
         acted = [max((e["t"] for e in report["events"] if e["kind"] == "action"
                       and e["module"] == modules[k] and e["t"] <= first[k + 1]), default=first[k])

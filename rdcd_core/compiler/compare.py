@@ -22,6 +22,17 @@ def _reads_state(expr: ast.Node, ctx: Context) -> bool:
                for node in ast.walk(expr))
 
 
+def _equals(left: ast.Node, right: ast.Node, target: Label, when: bool, ctx: Context,
+            out: list[Item], span: object) -> None:
+    """a == b with the EQUALS extension: each side read once."""
+    from rdcd_core.compiler import exprgen as g
+
+    g.value(left, ctx, out)
+    g.value(right, ctx, out)
+    g.emit(out, "EQUALS", span=span)
+    g.jump_on(when, target, out, span)
+
+
 def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out: list[Item]) -> None:
     from rdcd_core.compiler import exprgen as g
 
@@ -41,12 +52,9 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
     if op in ("==", "!=") and type_of(left, ctx) is Type.BOOL:
         _bool_equality(left, right, target, when == (op == "=="), ctx, out)
         return
-    if (op in ("==", "!=") and ctx.has("EQUALS") and _reads_state(expr, ctx)
-            and (constant is None or not (0 <= constant.value <= 4))):
-        g.value(left, ctx, out)  # a value read from state: EQUALS instead of reading it twice
-        g.value(right, ctx, out)
-        g.emit(out, "EQUALS", span=span)
-        g.jump_on(when == (op == "=="), target, out, span)
+    state_equality = op in ("==", "!=") and ctx.has("EQUALS") and _reads_state(expr, ctx)
+    if state_equality and constant is None:  # a value read from state: EQUALS, not two reads
+        _equals(left, right, target, when == (op == "=="), ctx, out, span)
         return
     if constant is not None:
         k = constant.value
@@ -70,6 +78,9 @@ def cjump_compare(expr: ast.Binary, target: Label, when: bool, ctx: Context, out
             g.value(left, ctx, out)
             g.emit(out, f"EQUALS_{k}", span=span)
             g.jump_on(when == (op == "=="), target, out, span)
+            return
+        if state_equality:  # a state and any other constant: one EQUALS, one read
+            _equals(left, right, target, when == (op == "=="), ctx, out, span)
             return
         if op == ">=" and k > -128:
             op, right, k = ">", _literal(k - 1, right), k - 1
