@@ -73,12 +73,16 @@ def test_run_backwards_it_gives_the_car_back_same_cells_same_connections(loss: f
     assert shape(report) == structure_shape(load_config("car7"))
 
 
+def done_at(report: dict) -> float:
+    """When the first module heard that the sequence is done."""
+    return min(t for m in report["modules"] for t, name, value in m["state_history"]
+               if name == "carToSnake" and value == 12)
+
+
 def moved_after_done(report: dict) -> tuple[float, float]:
-    """How far the robot's centre moved (net) from the first module hearing that the sequence is
-    done to the end of the run, and in how many seconds."""
-    heard = min(t for m in report["modules"] for t, name, value in m["state_history"]
-                if name == "carToSnake" and value == 12)
-    path = [p for p in report["trajectory"] if p[0] >= heard]
+    """How far the robot's centre moved (net) from ``done_at`` to the end of the run, and in how
+    many seconds."""
+    path = [p for p in report["trajectory"] if p[0] >= done_at(report)]
     return math.dist(path[0][1:3], path[-1][1:3]), path[-1][0] - path[0][0]
 
 
@@ -108,8 +112,7 @@ def test_once_the_sequence_is_done_the_chains_inner_modules_roll_as_the_table_sa
     # which way: modules 3 and 6 clockwise, modules 1, 2 and 5 counter-clockwise; the
     # ends of the chain (0 and 4) do nothing
     report, _ = run()
-    done = min(t for m in report["modules"] for t, name, value in m["state_history"]
-               if name == "carToSnake" and value == 12)
+    done = done_at(report)
     turns = (ROTATE_CW, ROTATE_CCW, STOP)
     rolls = {e["module"]: BUILTIN_COMMANDS[e["detail"]["command"]] for e in report["events"]
              if e["kind"] == "command" and e["t"] >= done and e["detail"]["command"] in turns}
