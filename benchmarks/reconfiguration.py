@@ -9,9 +9,11 @@ examples/eight_to_snake.rdcd from eight7, lattice, 50 seeds forward, 20 backward
 when its final structure (cells and connections) is the shape the checker finds at the end
 (backwards: the starting configuration); in the physics world each failure is given its cause.
 
-``--parallel``: the time to reconfigure of the same steps one after the other and in a parallel
-block (eight_to_snake and tests/sequences/eight_to_snake_parallel.rdcd; the half turns of
-tests/sequences/parallel_turns.rdcd and the same turns one after the other).
+``--parallel``: the time to reconfigure of the same steps one after the other and in parallel
+blocks (eight_to_snake and tests/sequences/eight_to_snake_parallel.rdcd; the half turns of
+tests/sequences/parallel_turns.rdcd; eight_to_car's steps alone, tests/sequences/
+eight_to_car_parallel.rdcd; car_to_snake and tests/sequences/car_to_snake_parallel.rdcd), each
+against the same file without its blocks (or the example); ``--case`` picks by title.
 
 ``--rollback``: one step fails at random in every run (a seeded choice among the latch and
 unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a latch ``fail`` — it does
@@ -22,9 +24,8 @@ shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/s
 run in the lattice model and end in the same structure, and they touch different modules (the
 checker's rule for a block); with the time each step took in a lattice run without loss (from the
 module's action to the progress it sets, first heard anywhere: waiting for code or progress is
-left out, a block does not shorten it), what blocks of such steps would save at most. An
-estimate: neither example fits a module's program slots with parallel blocks (the compact form
-runs a block's steps one after the other).
+left out, a block does not shorten it), what blocks of such steps would save at most: the
+estimate that ``--parallel`` measures with the pairs that fit (tests/sequences/*_parallel.rdcd).
 
 ``--crawl``: car_to_snake in the physics world, forward and backwards: how far the robot's centre
 moves (net, start to end) from the moment the first module hears that the sequence is done to the
@@ -36,6 +37,7 @@ from __future__ import annotations
 import argparse
 import math
 import random
+import re
 import statistics
 import sys
 import time
@@ -161,20 +163,36 @@ def main_default(args: argparse.Namespace) -> None:
                     print(f"    {line}", flush=True)
 
 
+def without_blocks(text: str) -> str:
+    """The same steps one after the other: the file with its ``parallel {`` and ``}`` lines left out."""
+    return re.sub(r"\n  \}\n", "\n", re.sub(r"\n  parallel \{\n", "\n", text))
+
+
 def main_parallel(args: argparse.Namespace) -> None:
     turns = (DATA / "parallel_turns.rdcd").read_text()
     parallel_eight = (DATA / "eight_to_snake_parallel.rdcd").read_text()
-    pairs = [("eight_to_snake: two unlatches", EIGHT.read_text(), parallel_eight),
-             ("parallel_turns: two unlatches, two half turns",
-              turns.replace("  parallel {\n", "").replace("  }\n}", "}").replace("\n    ", "\n  "), turns)]
+    eight_to_car = (DATA / "eight_to_car_parallel.rdcd").read_text()
+    # (title, configuration, one after the other, parallel, shortest duration: the examples take
+    # 10-25 s without loss)
+    pairs = [("eight_to_snake: two unlatches", "eight7", EIGHT.read_text(), parallel_eight, 0.0),
+             ("parallel_turns: two unlatches, two half turns", "eight7", without_blocks(turns), turns, 0.0),
+             ("eight_to_car: its 23 steps alone, three pairs as blocks", "eight7",
+              without_blocks(eight_to_car), eight_to_car, 90.0),
+             ("car_to_snake: the example, two pairs as blocks", "car7", CAR_TO_SNAKE.read_text(),
+              (DATA / "car_to_snake_parallel.rdcd").read_text(), 90.0)]
     for loss in [float(x) for x in args.losses.split(",")]:
-        for title, sequential, parallel in pairs:
+        for title, config, sequential, parallel, shortest in pairs:
+            if args.case not in title:
+                continue
             for kind, text in (("one after the other", sequential), ("parallel block", parallel)):
                 name = check_text(text).program.sequences[0].name.text
-                ok, times, _ = runs(text, "eight7", name, False, args.seeds, loss, args.duration, args.world)
+                ok, times, causes = runs(text, config, name, False, args.seeds, loss,
+                                         max(args.duration, shortest), args.world)
                 print(f"{title}, {kind}, loss {loss:.0%}: {ok}/{args.seeds} in the target shape; time to "
                       f"reconfigure {spread(times)}; mean {statistics.mean(times):.2f} s" if times else
                       f"{title}, {kind}, loss {loss:.0%}: {ok}/{args.seeds}", flush=True)
+                for line in causes:
+                    print(f"    {line}", flush=True)
 
 
 def faults_for(text: str) -> list[str]:
@@ -338,7 +356,8 @@ def main() -> int:
                         help="which neighbouring steps could run in parallel, and what it would save")
     parser.add_argument("--crawl", action="store_true",
                         help="car_to_snake in physics: the distance moved once the sequence is done")
-    parser.add_argument("--case", default="", help="with --rollback: only the cases whose title holds this")
+    parser.add_argument("--case", default="",
+                        help="with --rollback or --parallel: only the cases whose title holds this")
     args = parser.parse_args()
     if args.parallel:
         main_parallel(args)

@@ -238,8 +238,8 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
             state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
         elif low == (steps if rollback else done_value(sequence)):
             state = "done"
-        else:  # a parallel block's progress is a mask of its steps done (lower.progress_plan)
-            done = high if rollback else steps_done(sequence, high, reverse == name)
+        else:  # the number of steps done (progress.progress_plan)
+            done = high if rollback else steps_done(sequence, high)
             state = f"not done: {done} of {steps} steps when the run ended"
         lines.append(f"sequence {name}{way}: {state}")
     return lines

@@ -18,7 +18,6 @@ from rdcd_core import diagnostics as diag
 from rdcd_core.module_api import ACTIONS
 from rdcd_core.semantics.model import Model
 from rdcd_core.sequences import codes
-from rdcd_core.sequences.limits import progress_limit
 from rdcd_core.sequences.roles import entry_frame, environment, evaluate, find_roles
 from rdcd_core.syntax import ast
 
@@ -56,7 +55,8 @@ def constant_arg(step: ast.SeqStep, model: Model) -> int | None:
 
 # module states each sequence S declares for itself (E801 when the program declares one)
 RESERVED = {"_par": "the steps done in a parallel block", "_t": "the step code of the compact form",
-            "_k": "the module's key in the compact form"}
+            "_k": "the module's key in the compact form",
+            "_a": "the step code of a parallel block's second step in the compact form"}
 
 
 def check_names(model: Model) -> list[diag.Diagnostic]:
@@ -85,8 +85,6 @@ def check_names(model: Model) -> list[diag.Diagnostic]:
         if count > MAX_STEPS:
             found.append(diag.make(codes.BAD_STEP, sequence.name.span,
                                    f"sequence '{name}' has {count} steps; at most {MAX_STEPS}"))
-        else:
-            found += progress_limit(sequence)
         for step in steps_of(sequence):
             found += _check_step(model, step)
     return found

@@ -12,7 +12,7 @@ _ROLE = "role A { self.center_position == NORTH_SOUTH; }\nrole B { }\n"
 
 DUPLICATE_SEQUENCE = define_code(
     "E801", _E, "two sequences, or a sequence and a module state, of one name (or a state named like the "
-    "sequence's own S_par, S_t, S_k)",
+    "sequence's own S_par, S_t, S_k, S_a)",
     _ROLE + "sequence s { A.waitUntil(1 == 1); }\nsequence s { }\ndeployment { A, B }")
 UNKNOWN_STEP_ROLE = define_code(
     "E802", _E, "a step names a role that is not in the deployment",
@@ -69,10 +69,4 @@ TOO_MANY_FRAGMENTS = define_code(
     "role C { self.center_position == UP_DOWN; }\nsequence s {\n"
     + "  A.waitUntil(1 == 1); B.waitUntil(1 == 1); C.waitUntil(1 == 1);\n" * 4
     + "}\ndeployment { A, B, C }")
-PROGRESS_RANGE = define_code(
-    "E806", _E,
-    "the progress of a sequence needs more values than its state byte holds (a parallel block of m "
-    "steps takes 2^m - 1)",
-    _ROLE + "sequence s {\n  parallel {\n    A.waitUntil(1 == 1); A.waitUntil(2 == 2); "
-    "A.waitUntil(3 == 3); A.waitUntil(4 == 4);\n    A.waitUntil(5 == 5); A.waitUntil(6 == 6); "
-    "A.waitUntil(7 == 7); B.waitUntil(1 == 1);\n  }\n}\ndeployment { A, B }")
+

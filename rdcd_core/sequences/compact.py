@@ -39,7 +39,7 @@ from __future__ import annotations
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS
-from rdcd_core.sequences.progress import is_rollback
+from rdcd_core.sequences.progress import is_rollback, progress_plan
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import step_action
@@ -58,12 +58,33 @@ ACT = "if (self.act({t})) {{ {name} := {name} + 1; {t} := 0; }}"
 FAILED = "if ({t} > 0 && {t} < {codes} && {name} < {n}) {{ {name} := {back} - {name}; {t} := 0; }}"
 # zeros between the forward and the undo entries that cost less than a table statement of their own
 UNDO_GAP = 4
+# a parallel block's second step reads its code from a second table, the lane, from the block's
+# first value on (``role_table``); a block of more steps keeps the ordinary form
+LANES = 1
+# the lane's step acts once, ahead, and is counted in its turn: S_par says it has acted (1), and
+# at the step's own value its lane and the progress table read the same code (before it, the
+# table reads another module's code). Counted first, then the lane, then ACT on the table: each
+# clears the codes it leaves behind, so that nothing acts twice on a code read before the relay
+# reads again (the three fit two fragments' parts)
+AHEAD = ("if ({d} == 1 && {t} == {a}) {{ {name} := {name} + 1; {t} := 0; {a} := 0; {d} := 0; }} "
+         "if ({d} == 0) {{ if (self.act({a})) {{ {d} := 1; {t} := 0; }} }}")
 
 
 def applies(sequence: ast.Sequence) -> bool:
-    """Steps one after the other: the only sequences with a compact form (with ``rollback`` the
-    steps of a parallel block run one after the other too, progress.progress_plan)."""
-    return is_rollback(sequence) or all(isinstance(item, ast.SeqStep) for item in sequence.items)
+    """The sequences with a compact form: with ``rollback`` (the steps of a parallel block run
+    one after the other, progress.progress_plan), or whose parallel blocks have at most two steps
+    (the second acts ahead from its lane, see ``role_table``)."""
+    return is_rollback(sequence) or all(isinstance(item, ast.SeqStep) or len(item.steps) <= LANES + 1
+                                        for item in sequence.items)
+
+
+def ahead_steps(sequence: ast.Sequence, reverse: bool = False) -> dict[int, int]:
+    """Per step number (as the steps run) that acts ahead, the first progress value at which it
+    may act: the second step of each parallel block (not with ``rollback``)."""
+    if is_rollback(sequence):
+        return {}
+    return {stage.base + 1: stage.base for stage in progress_plan(sequence, reverse)
+            if stage.block and len(stage.steps) == LANES + 1}
 
 
 def _constant(node: ast.Node) -> int | None:
@@ -114,18 +135,23 @@ def _ranges(spans: list[tuple[int, int]]) -> list[tuple[int, int]]:
 
 
 def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
-               rollback: bool = False) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
+               rollback: bool = False, ahead: dict[int, int] | None = None,
+               ) -> tuple[str, str | None, list[tuple[str, Span]]] | None:
     """(the table read after the relay, the key's startup statement, the behaviours that act) of
     ``role``'s steps, None when one of them has no compact code (its condition is not
     ``E == key``, or another E, or an argument outside the codes). ``rollback``: with n steps,
     the table also holds the undo of step k at progress 2n - k, and the behaviour that acts sets
-    the progress to 2n - k + 1 when step k fails (lower.py's numbering, "Rolling back")."""
+    the progress to 2n - k + 1 when step k fails (lower.py's numbering, "Rolling back").
+    ``ahead`` (``ahead_steps``): a step k that acts from progress b on, the second of a parallel
+    block; its code is also in the lane, a second table read into ``S_a``, at b..k, and the
+    behaviour that acts first acts on the lane once (``AHEAD``)."""
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
     if not mine:
         return None
     n = len(steps)
     left: set[str | None] = set()
     entries: dict[int, int] = {}
+    lane: dict[int, int] = {}
     for k, step in mine:
         if step.action.text not in STEP_ACTIONS or len(step.args) != 1:
             return None
@@ -141,6 +167,8 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
         entries[k] = key[1] * CODES + code
         if rollback:  # the undo of step k runs at progress 2n - k (lower.py)
             entries[2 * n - k] = key[1] * CODES + undo
+        if k in (ahead or {}):
+            lane.update((v, entries[k]) for v in range(ahead[k], k + 1))  # type: ignore[index]
     if len(left) != 1:
         return None
     k0, k1 = mine[0][0], mine[-1][0]
@@ -151,16 +179,10 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     t = f"{name}_t"
     side = left.pop()
     k = f"{name}_k"
-    reads: list[str] = []  # the first statement follows the relay in the behaviour's first part
-    for first, last in _ranges(spans):
-        start = first
-        while start <= last:
-            end = min(start + (CHUNK if reads else FIRST), last + 1)
-            values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
-            index = f"{name} - {start}" if start else name
-            reads.append(f"{t} := {t} + table({index}, {values});" if reads
-                         else f"{t} := table({index}, {values}){f' - {k}' if side else ''};")
-            start = end  # one index in its table: outside it, table() is 0
+    reads = _reads(t, name, entries, _ranges(spans), f" - {k}" if side else "")
+    if lane:  # each block's values, b..k, two runs joined when few zeros lie between
+        runs = [(v, v) for v in sorted(lane)]
+        reads += _reads(f"{name}_a", name, lane, _ranges(runs), f" - {k}" if side else "")
     read = " ".join(reads)
     # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
     # only; on the others 14 or more away (or <= 0)
@@ -168,7 +190,26 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     # ACT answers false at once, doing nothing, for a code that is no step's (0, <= 0 or >= 14
     # away from this module's key): the modules whose step it is not
     act = ACT.format(t=t, name=name)
+    if lane:  # the lane first: at its step's value it counts, and S_t := 0 keeps ACT from acting
+        act = AHEAD.format(d=f"{name}_par", a=f"{name}_a", t=t, name=name) + " " + act
     if rollback:  # a second statement, so that the splitter may cut between the two
         act += " " + FAILED.format(t=t, name=name, n=n, back=2 * n + 1, codes=CODES)
     acts = [(f"behavior {t}_{role}() {{ {act} }}", mine[0][1].span)]
     return read, startup, acts
+
+
+def _reads(state: str, name: str, entries: dict[int, int], ranges: list[tuple[int, int]],
+           minus: str) -> list[str]:
+    """The table statements that read ``state`` at the progress: the first into the state (less
+    the key, ``minus``), the others added; each table covers its range, 0 outside."""
+    reads: list[str] = []  # the first statement follows the relay in the behaviour's first part
+    for first, last in ranges:
+        start = first
+        while start <= last:
+            end = min(start + (CHUNK if reads else FIRST), last + 1)
+            values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
+            index = f"{name} - {start}" if start else name
+            reads.append(f"{state} := {state} + table({index}, {values});" if reads
+                         else f"{state} := table({index}, {values}){minus};")
+            start = end  # one index in its table: outside it, table() is 0
+    return reads

@@ -1,7 +1,8 @@
 """What a sequence needs of the DCD-VM, said at the line before it runs (docs/reconfiguration.md
-"Limits"): progress values within a state byte (E806), program slots for the fragments the
-program with its sequences compiles to (E805) — a module keeps every fragment that reaches it
-while the program is being spread, so the entry refuses the fragment after the last slot.
+"Limits"): program slots for the fragments the program with its sequences compiles to (E805) — a
+module keeps every fragment that reaches it while the program is being spread, so the entry
+refuses the fragment after the last slot. (E806, the progress past a signed byte, is gone: the
+progress counts steps, at most 60, and a rollback's at most 2 * 60 + 1.)
 (A role invariant on the progress, `S == N;`, once E807, now fits: state-dependent discovery is
 split over fragments, docs/language.md "Fragments that fit".)"""
 
@@ -11,22 +12,7 @@ from typing import Any
 
 from rdcd_core import diagnostics as diag
 from rdcd_core.sequences import codes
-from rdcd_core.sequences.progress import MAX_PROGRESS, progress_plan
 from rdcd_core.syntax import ast
-
-
-def progress_limit(sequence: ast.Sequence) -> list[diag.Diagnostic]:
-    """E806 at the first stage whose progress values go past a signed byte."""
-    for stage in progress_plan(sequence):
-        if stage.base + stage.width > MAX_PROGRESS:
-            what = (f"this parallel block of {len(stage.steps)} steps takes {stage.width} progress "
-                    "values (2^m - 1: a bit for each step)" if stage.block else "this step")
-            return [diag.make(codes.PROGRESS_RANGE, stage.span,
-                              f"{what} and ends at progress {stage.base + stage.width}; the progress "
-                              f"of sequence '{sequence.name.text}' is a signed byte (at most "
-                              f"{MAX_PROGRESS}): split the block into smaller blocks one after the "
-                              "other")]
-    return []
 
 
 def slot_limit(model: Any, fragments: list[Any], slots: int) -> list[diag.Diagnostic]:

@@ -11,15 +11,14 @@ to the neighbours, and behaviours in every deployed role:
   when the progress it has heard says step k is next, and only it moves the progress on. A failed
   action leaves the progress at k and is tried again on the next run of the behaviour.
 
-Stages take a range of progress values (``progress_plan``): a step alone one value, a parallel
-block of m steps 2^m - 1 values read as a bitmask of its steps done: at progress k + mask, the
-module of step j acts once (it remembers the block in a local state ``S_par``) and adds its bit
-2^j while the bit is not there. The relay stays ``max``: a bit that max drops (two modules each
-with one bit) is added again by the module of that step when it hears the larger value, and
-adding a missing bit always makes the value larger, so the progress grows until every bit is
-there, k + 2^m - 1, the next stage's first value. With ``rollback`` the steps of a block run one
-after the other (the undo of a failed step counts the steps done). ``reverse``: the undo of each
-step in reverse order (a parallel block stays parallel).
+The progress is always the number of steps done (``progress_plan``). The steps of a parallel
+block of m steps starting at k *act* at once and are *counted* in order: step j acts once as soon
+as the progress reaches k (its module remembers, in a local state ``S_par``, the value the step counts
+to) and counts it, k + j -> k + j + 1, once the progress says the steps before it are counted
+(``parallel_code``). A block therefore takes as long as its slowest action, and its values mean
+what a step's do. With ``rollback`` the steps of a block run one after the other (the undo of a
+failed step needs the steps done before it). ``reverse``: the undo of each step in reverse order
+(a parallel block stays parallel).
 
 The generated members carry the span of their step (or the sequence's), so a diagnostic of the
 compiler points at the step.
@@ -32,7 +31,7 @@ from typing import Any
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS, stages
-from rdcd_core.sequences.compact import applies, role_table
+from rdcd_core.sequences.compact import ahead_steps, applies, role_table
 from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -42,34 +41,38 @@ STEPS_PER_BEHAVIOUR = 2  # two steps' code fits a 43-byte fragment with room for
 
 def parallel_code(sequence: str, stage: Stage, j: int, step: ast.SeqStep,
                   reverse: bool = False) -> tuple[str, str] | None:
-    """Step j of block ``stage`` run at once, as two behaviours (one does not fit a fragment):
+    """Step j (1..m-1) of block ``stage``, which acts at once with the block's other steps and is
+    counted in order, as two behaviours (one does not fit a fragment). With k the block's first
+    progress value, the step is counted at k + j (step 0 is an ordinary step at k):
 
-    - act once: ``if (S >= k && S_par < b) { if (self.disconnect(c)) { S_par := b; } }`` —
-      blocks are numbered in the order they run and a module acts in one step of a block (E816),
-      so ``S_par < b`` means "not done yet", and the block cannot be over without this step;
-    - add the bit while it is missing: ``if (S_par == b && ((e - S) / 2^j) % 2 == 1)
-      { S := S + 2^j; }`` with e = k + 2^m - 1 (all bits set): up to e, e - S is the complement
-      of the mask, whose bit j is set when the mask's is not; past e it is negative and (rounding
-      toward zero, the sign of the dividend) never 1 — one test for "in the block, not marked".
-    """
-    if step_code(sequence, 0, step, reverse, at=0, then=0) is None:
+    - act once, as soon as the block has begun: ``if (S >= k && S_par < v)
+      { if (self.disconnect(c)) { S_par := v; } }`` with v = k + j + 1 — the module remembers
+      the value the step counts to; a module acts in one step of a block (E816) and earlier steps
+      count to less, so ``S_par < v`` means "not done yet" (and the progress cannot pass k + j
+      before it is done: only this module counts to v);
+    - count it in its turn: ``if (S == k + j && S_par == v) { S := v; }`` — v is this step's
+      alone, so only the module that did it counts it, once the steps before it are counted.
+
+    The progress still only grows and max() still spreads it: a lost packet delays a count, never
+    loses one, and the block is over when its last step is counted, each of its actions done."""
+    if j == 0 or step_code(sequence, 0, step, reverse, at=0, then=0) is None:
         return None
-    k, end, bit, b = stage.base, stage.base + stage.width, 1 << j, stage.block
+    k = stage.base
+    at, v = k + j, k + j + 1
     mine = f"{sequence}_par"
-    guard = f"{sequence} >= {k} && {mine} < {b}" if k else f"{mine} < {b}"
+    guard = f"{sequence} >= {k} && {mine} < {v}" if k else f"{mine} < {v}"
     if step.condition is not None:
         guard += f" && ({expr(step.condition)})"
     action = INVERSE[step.action.text] if reverse else step.action.text
     arg = expr(step.args[0])
     if action == "waitUntil":
-        act = f"if ({guard} && ({arg})) {{ {mine} := {b}; }}"
+        act = f"if ({guard} && ({arg})) {{ {mine} := {v}; }}"
     else:
         if action == "turnQuarters" and reverse:
             arg = f"0 - ({arg})"
-        act = f"if ({guard}) {{ if (self.{action}({arg})) {{ {mine} := {b}; }} }}"
-    missing = f"({end} - {sequence}) / {bit}" if bit > 1 else f"{end} - {sequence}"
-    mark = f"if ({mine} == {b} && ({missing}) % 2 == 1) {{ {sequence} := {sequence} + {bit}; }}"
-    return act, mark
+        act = f"if ({guard}) {{ if (self.{action}({arg})) {{ {mine} := {v}; }} }}"
+    count = f"if ({sequence} == {at} && {mine} == {v}) {{ {sequence} := {v}; }}"
+    return act, count
 
 
 def step_code(sequence: str, k: int, step: ast.SeqStep, reverse: bool = False, *,
@@ -109,8 +112,15 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     modules play while the sequence runs (``roles_played``); the others need no relay."""
     name = sequence.name.text
     steps = ordered_steps(sequence, reverse)
+    ahead = ahead_steps(sequence, reverse)
     tables = {role: found for role in deployed if compact and applies(sequence)
-              and (found := role_table(name, steps, role, reverse, is_rollback(sequence))) is not None}
+              and (found := role_table(name, steps, role, reverse, is_rollback(sequence), ahead))
+              is not None}
+    # a step that acts ahead (a block's second) reads its lane: every block step in a table, or
+    # none (the ordinary form's parallel code and the lanes count alike, but act on other states)
+    if any(steps[k].role.text not in tables or steps[k].action.text == "waitUntil"
+           for b in ahead.values() for k in (b, b + 1)):
+        tables = {}
     out: dict[str, list[tuple[str, Span]]] = {
         role: [(f"behavior {name}_relay() {{ {name} := max({name}, max(neighbours.{name})); "
                 f"{tables[role][0] if role in tables else ''} }}", sequence.header_span)]
@@ -133,10 +143,11 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     if not rollback:
         for stage in progress_plan(sequence, reverse):
             for j, step in enumerate(stage.steps):
-                if stage.block:  # run at once: two behaviours of their own (their code is longer)
+                if j:  # acts at once: two behaviours of their own (longer code)
                     for code in parallel_code(name, stage, j, step, reverse) or ():
                         add(step, code, True)
-                else:  # a step with a condition (or waitUntil's) takes a behaviour alone
+                else:  # a step alone (or a block's first, counted at the block's first value);
+                    # one with a condition (or waitUntil's) takes a behaviour alone
                     add(step, step_code(name, stage.base, step, reverse),
                         step.condition is not None or step.action.text == "waitUntil")
     for k, step in enumerate(steps if rollback else ()):
@@ -202,7 +213,8 @@ def lower(program: ast.Program, reverse: str | None = None, compact: bool = Fals
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
                                 reverse == name, compact, (played or {}).get(name))
         if compact and applies(sequence) and not any(s.name.text == f"{name}_t" for s in program.states):
-            for added in (f"{name}_t", f"{name}_k"):  # see compact.py
+            lane = [f"{name}_a"] if ahead_steps(sequence, reverse == name) else []
+            for added in (f"{name}_t", f"{name}_k", *lane):  # see compact.py
                 if not any(s.name.text == added for s in states):
                     states.append(_respan(_state(added), sequence.name.span))
         for role, items in generated.items():

@@ -81,8 +81,9 @@ def test_the_compact_rollback_lowering_has_no_step_behaviours() -> None:
 def test_a_parallel_block_of_a_rollback_sequence_runs_one_step_after_the_other_in_tables() -> None:
     program = _sequence("parallel { R(self.x() == 1).disconnect(2); R(self.x() == 2).disconnect(4); }")
     sequence = program.sequences[0]
-    assert applies(sequence) and not applies(_sequence(
-        "parallel { R(self.x() == 1).disconnect(2); R(self.x() == 2).disconnect(4); }", "").sequences[0])
+    assert applies(sequence) and not applies(_sequence(  # without rollback: blocks of two (a lane)
+        "parallel { R(self.x() == 1).disconnect(2); R(self.x() == 2).disconnect(4); "
+        "R(self.x() == 3).disconnect(4); }", "").sequences[0])
     read, _, _ = role_table("s", ordered_steps(sequence), "R", False, rollback=True)
     assert read == "s_t := table(s, 16, 31, 0, 35, 20) - s_k;"  # no bitmask: steps 0, 1, their undos
     names = [s.name.text for s in lower(program, compact=True).states]
