@@ -61,13 +61,14 @@ UNDO_GAP = 4
 # a parallel block's second step reads its code from a second table, the lane, from the block's
 # first value on (``role_table``); a block of more steps keeps the ordinary form
 LANES = 1
-# the lane's step acts once, ahead, and is counted in its turn: S_par says it has acted (1), and
-# at the step's own value its lane and the progress table read the same code (before it, the
-# table reads another module's code). Counted first, then the lane, then ACT on the table: each
-# clears the codes it leaves behind, so that nothing acts twice on a code read before the relay
-# reads again (the three fit two fragments' parts)
-AHEAD = ("if ({d} == 1 && {t} == {a}) {{ {name} := {name} + 1; {t} := 0; {a} := 0; {d} := 0; }} "
-         "if ({d} == 0) {{ if (self.act({a})) {{ {d} := 1; {t} := 0; }} }}")
+# the lane's step acts once, ahead, and is counted in its turn. The lane holds its code at the
+# block's first value b only; S_par says the module has done it (1). Counted when the table reads
+# a code (> 0) on that module, which it does at b + 1, its own value, only: at b the table holds
+# the block's first step, of a module with a smaller key (``count_order``), or of another role
+# (0), so the read there is <= 0. In this order: counted; the lane (S_t := 0 when it acted, for
+# the relay may have read the step's own code meanwhile); the table (``ACT``)
+COUNT = "if ({d} == 1 && {t} > 0) {{ {name} := {name} + 1; {t} := 0; {d} := 0; }}"
+LANE = "if ({d} == 0) {{ if (self.act({a})) {{ {d} := 1; {t} := 0; }} }}"
 
 
 def applies(sequence: ast.Sequence) -> bool:
@@ -76,6 +77,18 @@ def applies(sequence: ast.Sequence) -> bool:
     (the second acts ahead from its lane, see ``role_table``)."""
     return is_rollback(sequence) or all(isinstance(item, ast.SeqStep) or len(item.steps) <= LANES + 1
                                         for item in sequence.items)
+
+
+def count_order(steps: list[ast.SeqStep], ahead: dict[int, int]) -> list[ast.SeqStep]:
+    """The steps in the order they are counted in tables: a block of two steps of one role is
+    counted smaller key first (they act at once, either order ends in the same structure, E816),
+    so that on the second step's module the table reads <= 0 at the block's first value."""
+    out = list(steps)
+    for b in ahead.values():
+        first, second = _key(out[b]), _key(out[b + 1])
+        if out[b].role.text == out[b + 1].role.text and first and second and first[1] > second[1]:
+            out[b], out[b + 1] = out[b + 1], out[b]
+    return out
 
 
 def ahead_steps(sequence: ast.Sequence, reverse: bool = False) -> dict[int, int]:
@@ -143,8 +156,9 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     the table also holds the undo of step k at progress 2n - k, and the behaviour that acts sets
     the progress to 2n - k + 1 when step k fails (lower.py's numbering, "Rolling back").
     ``ahead`` (``ahead_steps``): a step k that acts from progress b on, the second of a parallel
-    block; its code is also in the lane, a second table read into ``S_a``, at b..k, and the
-    behaviour that acts first acts on the lane once (``AHEAD``)."""
+    block (``steps`` in ``count_order``); its code is also in the lane, a second table the relay
+    reads into ``S_a`` (at b the step's code), and the behaviour that acts counts it, acts on the
+    lane once, then acts on the table (``COUNT``, ``LANE``)."""
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
     if not mine:
         return None
@@ -168,7 +182,7 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
         if rollback:  # the undo of step k runs at progress 2n - k (lower.py)
             entries[2 * n - k] = key[1] * CODES + undo
         if k in (ahead or {}):
-            lane.update((v, entries[k]) for v in range(ahead[k], k + 1))  # type: ignore[index]
+            lane[ahead[k]] = entries[k]  # type: ignore[index]
     if len(left) != 1:
         return None
     k0, k1 = mine[0][0], mine[-1][0]
@@ -180,9 +194,9 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     side = left.pop()
     k = f"{name}_k"
     reads = _reads(t, name, entries, _ranges(spans), f" - {k}" if side else "")
-    if lane:  # each block's values, b..k, two runs joined when few zeros lie between
-        runs = [(v, v) for v in sorted(lane)]
-        reads += _reads(f"{name}_a", name, lane, _ranges(runs), f" - {k}" if side else "")
+    if lane:  # each block's first value, two runs joined when few zeros lie between
+        runs = _ranges([(v, v) for v in sorted(lane)])
+        reads += _reads(f"{name}_a", name, lane, runs, f" - {k}" if side else "")
     read = " ".join(reads)
     # the module's key times 14, once: S_t is then a (1..13) on the module whose step it is
     # only; on the others 14 or more away (or <= 0)
@@ -190,8 +204,9 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     # ACT answers false at once, doing nothing, for a code that is no step's (0, <= 0 or >= 14
     # away from this module's key): the modules whose step it is not
     act = ACT.format(t=t, name=name)
-    if lane:  # the lane first: at its step's value it counts, and S_t := 0 keeps ACT from acting
-        act = AHEAD.format(d=f"{name}_par", a=f"{name}_a", t=t, name=name) + " " + act
+    if lane:  # counted, the lane, then the table (COUNT, LANE)
+        act = " ".join([COUNT.format(d=f"{name}_par", t=t, name=name),
+                        LANE.format(d=f"{name}_par", a=f"{name}_a", t=t), act])
     if rollback:  # a second statement, so that the splitter may cut between the two
         act += " " + FAILED.format(t=t, name=name, n=n, back=2 * n + 1, codes=CODES)
     acts = [(f"behavior {t}_{role}() {{ {act} }}", mine[0][1].span)]

@@ -34,5 +34,5 @@ def slot_limit(model: Any, fragments: list[Any], slots: int) -> list[diag.Diagno
                       f"with its sequences the program compiles to {len(fragments)} fragments and a "
                       f"module has {slots} program slots: the entry module would refuse {names} "
                       "and the sequence would stop there; use fewer steps per role (a step alone "
-                      "takes half a behaviour, a step of a parallel block two, one with a "
+                      "takes half a behaviour, a step of a parallel block after its first two, one with a "
                       "condition one), or fewer roles")]

@@ -31,7 +31,7 @@ from typing import Any
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS, stages
-from rdcd_core.sequences.compact import ahead_steps, applies, role_table
+from rdcd_core.sequences.compact import ahead_steps, applies, count_order, role_table
 from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
@@ -113,8 +113,9 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
     name = sequence.name.text
     steps = ordered_steps(sequence, reverse)
     ahead = ahead_steps(sequence, reverse)
+    counted = count_order(steps, ahead)
     tables = {role: found for role in deployed if compact and applies(sequence)
-              and (found := role_table(name, steps, role, reverse, is_rollback(sequence), ahead))
+              and (found := role_table(name, counted, role, reverse, is_rollback(sequence), ahead))
               is not None}
     # a step that acts ahead (a block's second) reads its lane: every block step in a table, or
     # none (the ordinary form's parallel code and the lanes count alike, but act on other states)

@@ -22,6 +22,7 @@ from rdcd_core.syntax import ast, parse
 from sim.config import load_config
 from sim.run import Options, simulate
 from tests.sequences.shapes import shape, structure_shape
+from vm.lattice.outside import parse_all
 
 HERE = Path(__file__).parent
 EIGHT = (HERE.parents[1] / "examples" / "eight_to_snake.rdcd").read_text()
@@ -30,7 +31,8 @@ TURNS = (HERE / "parallel_turns.rdcd").read_text()
 
 
 def run(text: str, *, loss: float = 0.0, seed: int = 0, duration: float = 40.0,
-        reverse: str | None = None, config: str = "eight7") -> tuple[dict, object]:
+        reverse: str | None = None, config: str = "eight7",
+        changes: tuple[str, ...] = ()) -> tuple[dict, object]:
     result = check_text(text)
     assert not result.has_errors, result.diagnostics
     start = result.traces[0].final if reverse else load_config(config)
@@ -39,7 +41,7 @@ def run(text: str, *, loss: float = 0.0, seed: int = 0, duration: float = 40.0,
     # backwards: the robot as the forward run leaves it, each module in the frame it learned
     frames = vm_frames(result.traces[0].learned) if reverse else {}
     options = Options(world="lattice", config=config, obstacle="none", duration=duration, seed=seed,
-                      packet_loss=loss, frames=frames)
+                      packet_loss=loss, frames=frames, outside_changes=parse_all(list(changes)))
     return simulate(program, start, options), result.traces[0]
 
 
@@ -208,6 +210,16 @@ def test_blocks_in_tables_under_loss_and_backwards(loss: float, seed: int) -> No
     assert shape(report) == structure_shape(trace.final)
     back, _ = run(EIGHT_TO_CAR, loss=loss, seed=seed, duration=90, reverse="eightToCar")
     assert shape(back) == structure_shape(load_config("eight7"))
+
+
+def test_a_block_step_whose_latch_fails_once_is_tried_again_and_counted_once() -> None:
+    # module 6 (key 8) latches its connector 6 in the block 16+17, the first time it latches it:
+    # that latch fails once, and the step is done again from the lane or the table
+    report, trace = run(EIGHT_TO_CAR, duration=60, changes=("0s:fail 6 6",))
+    assert shape(report) == structure_shape(trace.final)
+    assert {m["final_state"]["eightToCar"] for m in report["modules"]} == {23}
+    mine = [(e["kind"], e["detail"].get("connector")) for e in report["events"] if e["module"] == 6]
+    assert mine.count(("connect_failed", 6)) == 1 and mine.count(("connect", 6)) == 1  # once, then done
 
 
 def test_car_to_snake_with_blocks_reaches_the_snake_and_gives_the_car_back() -> None:
