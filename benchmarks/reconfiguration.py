@@ -176,7 +176,7 @@ def main_parallel(args: argparse.Namespace) -> None:
     # 10-25 s without loss)
     pairs = [("eight_to_snake: two unlatches", "eight7", EIGHT.read_text(), parallel_eight, 0.0),
              ("parallel_turns: two unlatches, two half turns", "eight7", without_blocks(turns), turns, 0.0),
-             ("eight_to_car: its 23 steps alone, three pairs as blocks", "eight7",
+             ("eight_to_car: its 23 steps alone, four pairs as blocks", "eight7",
               without_blocks(eight_to_car), eight_to_car, 90.0),
              ("car_to_snake: the example, two pairs as blocks", "car7", CAR_TO_SNAKE.read_text(),
               (DATA / "car_to_snake_parallel.rdcd").read_text(), 90.0)]
