@@ -32,8 +32,13 @@ second statement (the splitter may cut between the two)::
 after a failed act S_t still holds the step's code, on the step's module only: a failed step k
 sets 2n - k + 1 ("undo step k - 1 next") and is not tried again; past n a failed undo leaves S,
 and is read and tried again; 2n + 1 (rolled back) is outside every table. A parallel block of a
-rollback sequence runs one step after the other, so it takes the compact form too; without
-rollback a sequence with a parallel block keeps the ordinary form."""
+rollback sequence runs one step after the other, so it takes the compact form too.
+
+Without rollback a parallel block of two steps (counted at b and b + 1, lower.py) takes the form
+too: its second step also has its code in a *lane*, a second table the relay reads into ``S_a``,
+at b; the behaviour that acts first counts that step once its module has done it and the table
+reads a code there (``COUNT``), then acts on the lane once (``LANE``), then on the table. A
+sequence with a larger block keeps the ordinary form."""
 
 from __future__ import annotations
 
