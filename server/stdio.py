@@ -66,6 +66,7 @@ def serve_stdio(server: Any, stdin: BinaryIO | None = None, stdout: BinaryIO | N
 
 async def _serve(server: Any, stdin: BinaryIO, stdout: BinaryIO) -> int:
     loop = asyncio.get_running_loop()
+    loop.set_exception_handler(_unretrieved)
     stop = asyncio.Event()
     status: dict[str, int] = {}
 
@@ -125,6 +126,19 @@ async def _end_tasks(patience: float = 10) -> None:
         for task in done:
             if not task.cancelled():
                 task.exception()  # retrieved: not "never retrieved"
+
+
+def _unretrieved(loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
+    """A refusal a handler meant (a ``JsonRpcException``: a cancelled simulation, say) whose outcome
+    nobody collected, because the server ended while pygls passed it on between its futures, is
+    logged on one line, as when it is answered (server/protocol.py); anything else as asyncio does."""
+    from pygls.exceptions import JsonRpcException
+
+    error = context.get("exception")
+    if isinstance(error, JsonRpcException):
+        log.info("at the end: %s (%s)", context.get("message", "an outcome not collected"), error.message)
+        return
+    loop.default_exception_handler(context)
 
 
 def _pump(stdin: BinaryIO, loop: asyncio.AbstractEventLoop, chunks: asyncio.Queue[bytes]) -> None:

@@ -127,3 +127,29 @@ def test_cancel_request_for_unknown_id_is_harmless(server: RawServer) -> None:
     server.send(request("after", "workspace/symbol", {"query": ""}))
     assert server.answer("after")["result"] == []
     assert server.stop() == 0
+
+
+def test_an_uncollected_refusal_at_the_end_is_one_line(caplog: pytest.LogCaptureFixture) -> None:
+    """The server can end while pygls passes a cancelled simulation's refusal between its futures;
+    asyncio then reports it as never retrieved: one line, no traceback. Other errors as asyncio does."""
+    import asyncio
+    import logging
+
+    from pygls.exceptions import JsonRpcRequestCancelled
+
+    from server.stdio import _unretrieved
+
+    loop = asyncio.new_event_loop()
+    try:
+        error = JsonRpcRequestCancelled("simulation cancelled")
+        error.__traceback__ = None
+        with caplog.at_level(logging.INFO):
+            message = "Task exception was never retrieved"
+            _unretrieved(loop, {"message": message, "exception": error})
+            _unretrieved(loop, {"message": message, "exception": ValueError("real")})
+    finally:
+        loop.close()
+    lines = [r.getMessage() for r in caplog.records]
+    assert "at the end: Task exception was never retrieved (simulation cancelled)" in lines
+    real = [r for r in caplog.records if r.exc_info and isinstance(r.exc_info[1], ValueError)]
+    assert real and real[0].name == "asyncio"  # asyncio's own report, with the traceback
