@@ -236,11 +236,10 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
         if rollback and high > steps:
             left = 2 * steps + 1 - high
             state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
-        elif low == (steps if rollback else done_value(sequence)):
+        elif low == done_value(sequence):  # the number of steps (progress.progress_plan)
             state = "done"
-        else:  # the number of steps done (progress.progress_plan)
-            done = high if rollback else steps_done(sequence, high)
-            state = f"not done: {done} of {steps} steps when the run ended"
+        else:
+            state = f"not done: {steps_done(sequence, high)} of {steps} steps when the run ended"
         lines.append(f"sequence {name}{way}: {state}")
     return lines
 

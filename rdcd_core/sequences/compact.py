@@ -167,6 +167,7 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     mine = [(k, s) for k, s in enumerate(steps) if s.role.text == role and s.action.text != "waitUntil"]
     if not mine:
         return None
+    ahead = ahead or {}
     n = len(steps)
     left: set[str | None] = set()
     entries: dict[int, int] = {}
@@ -186,8 +187,8 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
         entries[k] = key[1] * CODES + code
         if rollback:  # the undo of step k runs at progress 2n - k (lower.py)
             entries[2 * n - k] = key[1] * CODES + undo
-        if k in (ahead or {}):
-            lane[ahead[k]] = entries[k]  # type: ignore[index]
+        if k in ahead:
+            lane[ahead[k]] = entries[k]
     if len(left) != 1:
         return None
     k0, k1 = mine[0][0], mine[-1][0]
