@@ -34,6 +34,10 @@ class Primitive:
     values: tuple[int, int, int] | None = None
     runtime_op: str | None = None  # the instruction that takes a value known only at run time
     variadic: bool = False  # the last parameter repeats (at least once): table(i, v0, v1, ...)
+    # The argument is an angle in degrees that the compiler turns into tens (the operand of a
+    # joint command): written as a number, it may be any angle of ``values`` (turnTowards(150),
+    # turnDegrees(-180)), beyond the -128..127 of a value.
+    degrees: bool = False
 
     @property
     def is_query(self) -> bool:
@@ -83,11 +87,13 @@ PRIMITIVES: tuple[Primitive, ...] = (
               "Rotate continuously: v > 0 clockwise, v < 0 counter-clockwise, speed abs(v); v in -127..127.",
               values=(*SPEEDS, 1), runtime_op="TURN_STACK"),
     Primitive("turnTowards", _S, (_p("deg", Type.INT),), Type.VOID,
-              "Rotate to the absolute joint angle deg: a multiple of 10 in -180..170.",
-              values=(*ANGLES_TO, ANGLE_STEP), runtime_op="TURN_TO_STACK"),
+              "Rotate to the absolute joint angle deg: a multiple of 10 in -180..170 when written as "
+              "a number; a computed angle is a value, so -120..120.",
+              values=(*ANGLES_TO, ANGLE_STEP), runtime_op="TURN_TO_STACK", degrees=True),
     Primitive("turnDegrees", _S, (_p("deg", Type.INT),), Type.VOID,
-              "Rotate by deg degrees relative to the current angle: a multiple of 10.",
-              values=(*ANGLES_BY, ANGLE_STEP), runtime_op="TURN_BY_STACK"),
+              "Rotate by deg degrees relative to the current angle: a multiple of 10, in -1280..1270 "
+              "when written as a number; a computed angle is a value, so -120..120.",
+              values=(*ANGLES_BY, ANGLE_STEP), runtime_op="TURN_BY_STACK", degrees=True),
     Primitive("stopTurning", _S, (), Type.VOID, "Stop the joint."),
     Primitive("sleepWhileTurning", _S, (_p("n", Type.INT),), Type.VOID,
               "Wait until the joint has made n full turns: n in 0..127.",

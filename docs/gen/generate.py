@@ -50,7 +50,10 @@ def module_api_page() -> str:
               "pushed and the instruction below pops it and checks the same range when it runs. A value\n",
               "out of range is a runtime error of that run, reported with the module, the fragment,\n",
               "the pc, the source line and the value ([the DCD-VM](vm.md#values-known-only-at-run-time)).\n",
-              "A byte holds -128..127, so a computed angle is a multiple of 10 in -120..120.\n\n",
+              "A byte holds -128..127, so a computed angle is a multiple of 10 in -120..120. An angle\n",
+              "written as a number in the call itself (`self.turnTowards(150)`, `self.turnDegrees(-180)`)\n",
+              "is degrees, not a value: the compiler puts its tens in the joint command, so it may be any\n",
+              "angle of the range below. A named constant or an expression is a value, -128..127 (E204).\n\n",
               "| call | a constant must be | a value known only at run time | on `--target original` |\n",
               "| --- | --- | --- | --- |\n"]
     for p in PRIMITIVES:

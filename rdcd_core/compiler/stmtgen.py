@@ -241,6 +241,10 @@ def _turn_by_value(speed: ast.Node, ctx: Context, out: list[Item], span: object)
 
 def _tens(command: int, name: str):  # type: ignore[no-untyped-def]
     def generate(args: tuple, ctx: Context, out: list[Item], span: object) -> None:
+        written = ast.signed_literal(args[0]) if args else None
+        if written is not None:  # degrees as written, beyond a value's -128..127 (turnTowards(150))
+            emit(out, "EVAL_COMMAND", command, int(written / 10), span=span)
+            return
         if args and fold(args[0], ctx) is None:
             _runtime_value(name, args[0], ctx, out, span)
             return

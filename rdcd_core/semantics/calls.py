@@ -230,6 +230,10 @@ def _check_arg(env: Env, primitive: Primitive, index: int, arg: ast.Arg) -> Valu
     if isinstance(arg, ast.Block):
         _check_extra_args(env, (arg,))
         return None
+    if primitive.degrees and index == 0:
+        written = ast.signed_literal(arg)  # an angle written as a number: degrees, not a value
+        if written is not None and abs(written) < 10**18:
+            return Value(Type.INT, written)
     if param.type is Type.ROLE:
         role = scoping.resolve_role_arg(env, arg)
         if role is not None and primitive.name == "connected_role":

@@ -333,6 +333,15 @@ def unparen(expr: Expr) -> Expr:
     return expr
 
 
+def signed_literal(expr: Expr) -> int | None:
+    """The number written, when ``expr`` is one: ``150``, ``-180``, ``(-150)``; otherwise None
+    (``-(150)`` negates the value 150, as the checker reads it)."""
+    expr = unparen(expr)
+    if isinstance(expr, Unary) and expr.op == "-":
+        return -expr.operand.value if isinstance(expr.operand, IntLit) else None
+    return expr.value if isinstance(expr, IntLit) else None
+
+
 _NOT_CHILDREN = frozenset({"span", "op_span", "header_span", "abstract_span", "else_span", "comments",
                            "bad_params"})
 _SCALAR_TYPES = frozenset({"str", "int", "bool"})  # annotations of fields that never hold a node
