@@ -19,6 +19,7 @@ from sim.scenario import MIN_TURN_DEG, forward_at_end, no_reverse_left, reverse_
 EXAMPLE = (Path(__file__).resolve().parents[2] / "examples" / "eight_to_car.rdcd").read_text()
 CAR_ROLES = ("Axle", "LeftWheel", "RightWheel", "Reverse@LeftWheel", "Reverse@RightWheel", "Go@Piece")
 JOINT_COMMANDS = {1, 2, 3, 4, 5}  # ROTATE_CW, ROTATE_CCW, STOP, ROTATE_DEGREES, ROTATE_TO
+ROTATE_TO = 5
 
 
 def _run(world: str, obstacle: str, duration: float) -> dict[str, Any]:
@@ -70,6 +71,24 @@ def test_in_the_physics_world_the_car_meets_the_wall_and_turns_away(wall: dict[s
     turn = turn_deg(wall)
     assert turn is not None and abs(turn) >= MIN_TURN_DEG
     assert no_reverse_left(wall) and forward_at_end(wall)
+
+
+def test_in_the_physics_world_both_axles_steer_while_the_wheels_reverse(wall: dict[str, Any]) -> None:
+    """obstacle_avoidance's axles: the front one (module 6, y = 0 in the eight) from 90 to 60
+    degrees, the rear one (module 1, at 0 after its last quarter turn) to 10, and both back."""
+    start, end = reverse_spans(wall)[0]
+    assert end is not None
+    angles: dict[int, list[tuple[float, int]]] = {}
+    for e in wall["events"]:
+        if e["kind"] == "command" and e["detail"]["command"] == ROTATE_TO:
+            angles.setdefault(e["module"], []).append((e["t"], 10 * e["detail"]["arg"]))
+    assert set(angles) == {1, 6}  # the two axles, nothing else steers
+    for module, rest, steered in ((6, 90, 60), (1, 0, 10)):
+        before = [a for t, a in angles[module] if t < start]
+        during = [a for t, a in angles[module] if start <= t <= end]
+        assert before and set(before) == {rest}, (module, angles[module])
+        assert during and during[0] == steered, (module, angles[module])  # while its wheel reverses
+        assert angles[module][-1][1] == rest, (module, angles[module])  # then straight again
 
 
 def test_in_the_physics_world_the_car_drives_after_the_sequence() -> None:
