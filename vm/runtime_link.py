@@ -5,14 +5,18 @@ outbox until the neighbour acknowledges it with an ack packet (type 4: the acked
 a CRC-8 of the whole packet as received). Unacknowledged packets are sent again after
 ``RETRY_INTERVAL`` seconds, the interval doubling up to ``MAX_BACKOFF`` times that (a busy
 neighbour with a full program store gets time to free a slot), with a little seeded jitter so that
-two neighbours do not stay in step, up to ``MAX_TRIES`` times (about 18 s in all). A receiver
+two neighbours do not stay in step. A program, notify or value packet is sent again for as long as
+its neighbour stays attached (none can run twice: programs are remembered for ever, and a notify or
+a value is the latest, replacing an older one here), so that at any loss below 100 % every module
+gets its code and its neighbours' values, only later; a command, remembered by its receiver for
+``COMMAND_MEMORY`` seconds only, is given up after ``MAX_TRIES`` tries (about 18 s). A receiver
 acknowledges every copy it accepts, including duplicates (the first ack may have been lost), and
 runs a program or command only once (duplicate suppression lives in ``vm.runtime_node``). A
 corrupted copy yields a different CRC and is therefore not acknowledged as the original, so the
 sender retries. A newer notify on a channel replaces an older one still waiting, so a late retry
 can never overwrite a newer role in a neighbour's cache. With loss p per packet, a try fails with
-probability 1-(1-p)^2 (packet or ack lost): at p = 10 % that is 0.19, and all 12 tries fail with
-probability < 1e-8.
+probability 1-(1-p)^2 (packet or ack lost): at p = 10 % that is 0.19, and all 12 tries of a
+command fail with probability < 1e-8.
 
 Program packets travel in order on each link: a program packet is held back while an earlier one
 on the same channel is still unacknowledged, and released when that one is acknowledged (or given
@@ -29,7 +33,7 @@ import random
 from dataclasses import dataclass
 
 from vm.hal import ModuleHal
-from vm.packets import ACK, NOTIFY, PROGRAM, VALUE, AckPacket, crc8, encode, make_header, seal
+from vm.packets import ACK, COMMAND, NOTIFY, PROGRAM, VALUE, AckPacket, crc8, encode, make_header, seal
 
 RETRY_INTERVAL = 0.25  # seconds
 MAX_TRIES = 12
@@ -117,7 +121,7 @@ class Link:
                 keep.append(p)
                 continue
             if p.due <= now:
-                if p.tries >= MAX_TRIES:
+                if p.tries >= MAX_TRIES and p.packet[0] == COMMAND:
                     self.given_up += 1
                     released.add(p.channel)
                     continue
