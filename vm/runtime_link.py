@@ -19,9 +19,10 @@ probability 1-(1-p)^2 (packet or ack lost): at p = 10 % that is 0.19, and all 12
 command fail with probability < 1e-8.
 
 Program packets travel in order on each link: a program packet is held back while an earlier one
-on the same channel is still unacknowledged, and released when that one is acknowledged (or given
-up). By induction every module then accepts fragments in the order they were injected, also under
-loss and in cyclic structures, so a discovery fragment never overtakes the fragments it follows.
+on the same channel is still unacknowledged, and released when that one is acknowledged (or
+forgotten, its neighbour gone). By induction every module then accepts fragments in the order they
+were injected, also under loss and in cyclic structures, so a discovery fragment never overtakes the
+fragments it follows.
 
 ``acknowledged=False`` is the original firmware (docs/vm.md): every packet is sent once,
 nothing is acknowledged or retransmitted, and a lost packet stays lost.
