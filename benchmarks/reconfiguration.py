@@ -18,7 +18,8 @@ against the same file without its blocks (or the example); ``--case`` picks by t
 ``--rollback``: one step fails at random in every run (a seeded choice among the latch and
 unlatch steps: an unlatch meets ``jam`` — its latch no longer moves —, a latch ``fail`` — it does
 not close, once; vm/lattice/outside.py); counts the runs that end in the start shape, the target
-shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/sequences/relatch.rdcd).
+shape, or in between (eight_to_snake and car_to_snake with ``rollback``, tests/sequences/relatch.rdcd,
+eight_to_car's steps alone with ``rollback``).
 
 ``--overlap FILE``: which neighbouring steps of an example could form a parallel block: both orders
 run in the lattice model and end in the same structure, and they touch different modules (the
@@ -37,7 +38,6 @@ from __future__ import annotations
 import argparse
 import math
 import random
-import re
 import statistics
 import sys
 import time
@@ -50,10 +50,11 @@ sys.path.insert(0, str(ROOT))
 from rdcd_core.compiler import compile_model  # noqa: E402
 from rdcd_core.frontend import check_text  # noqa: E402
 from rdcd_core.sequences.check import constant_arg, steps_of  # noqa: E402
-from rdcd_core.sequences.progress import done_value, is_rollback  # noqa: E402
+from rdcd_core.sequences.progress import done_value, is_rollback, rolled_back_value  # noqa: E402
 from rdcd_core.sequences.roles import vm_frames  # noqa: E402
 from sim.config import load_config  # noqa: E402
 from sim.run import Options, simulate  # noqa: E402
+from tests.sequences.programs import EIGHT_TO_CAR_STEPS, with_rollback, without_blocks  # noqa: E402
 from vm.lattice.outside import parse_all  # noqa: E402
 
 TOO_BIG = {"E121", "E805"}  # what a program with parallel blocks may meet, not the lattice model
@@ -81,7 +82,7 @@ def finals(text: str) -> set[int]:
     """The progress values a sequence ends with: done (and rolled back, with ``rollback``)."""
     sequence = check_text(text).program.sequences[0]
     n = sum(1 for _ in steps_of(sequence))
-    return {done_value(sequence), 2 * n + 1} if is_rollback(sequence) else {done_value(sequence)}
+    return {done_value(sequence), rolled_back_value(n)} if is_rollback(sequence) else {done_value(sequence)}
 
 
 def cause(report: dict, goal: tuple, name: str, final: set[int]) -> str:
@@ -163,11 +164,6 @@ def main_default(args: argparse.Namespace) -> None:
                     print(f"    {line}", flush=True)
 
 
-def without_blocks(text: str) -> str:
-    """The same steps one after the other: the file with its ``parallel {`` and ``}`` lines left out."""
-    return re.sub(r"\n  \}\n", "\n", re.sub(r"\n  parallel \{\n", "\n", text))
-
-
 def main_parallel(args: argparse.Namespace) -> None:
     turns = (DATA / "parallel_turns.rdcd").read_text()
     parallel_eight = (DATA / "eight_to_snake_parallel.rdcd").read_text()
@@ -213,8 +209,11 @@ def main_rollback(args: argparse.Namespace) -> None:
                                       "sequence eightToSnake(eight7) rollback {")
     car = CAR_TO_SNAKE.read_text().replace("sequence carToSnake(car7) {",
                                            "sequence carToSnake(car7) rollback {")
+    # eight_to_car's 23 steps alone: with rollback a block runs one step after the other
+    eight_to_car = with_rollback(without_blocks(EIGHT_TO_CAR_STEPS.read_text()))
     cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text()),
-             ("car_to_snake (rollback, compact form)", car)]
+             ("car_to_snake (rollback, compact form)", car),
+             ("eight_to_car's steps (rollback, compact form)", eight_to_car)]
     for loss in [float(x) for x in args.losses.split(",")]:
         for title, text in cases:
             if args.case not in title:

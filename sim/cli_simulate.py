@@ -216,7 +216,7 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
     (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
     from rdcd_core.inputs import InputError, read_source
     from rdcd_core.sequences.check import steps_of
-    from rdcd_core.sequences.progress import done_value, steps_done
+    from rdcd_core.sequences.progress import done_value, rolled_back_value, steps_done
     from rdcd_core.syntax import parse
 
     try:
@@ -233,9 +233,9 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
         rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
         low, high = min(values), max(values)
         way = " backwards" if reverse == name else ""
-        if rollback and high > steps:
-            left = 2 * steps + 1 - high
-            state = "rolled back" if low == 2 * steps + 1 else f"rolling back ({left} to undo)"
+        if rollback and high > steps:  # progress.undo_value: 2n - 1 - j undoes step j next
+            left = rolled_back_value(steps) - high
+            state = "rolled back" if low == rolled_back_value(steps) else f"rolling back ({left} to undo)"
         elif low == done_value(sequence):  # the number of steps (progress.progress_plan)
             state = "done"
         else:

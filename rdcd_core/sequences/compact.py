@@ -22,16 +22,16 @@ step until it acts; ``S_t := 0`` keeps a second run before the next read from ac
 failed action leaves S, and is tried again. Backwards (``reverse``) the table is the undo of each
 step, read in reverse order.
 
-``rollback`` keeps the ordinary form's numbering (lower.py, docs "Rolling back from a program"):
-with n steps the table also holds the undo of step k at progress 2n - k (entry n is 0, and the
-two runs of entries are one table when few zeros lie between), and the behaviour that acts has a
-second statement (the splitter may cut between the two)::
+``rollback`` keeps the ordinary form's numbering (lower.py, docs "Rolling back from a program",
+progress.undo_value): with n steps the table also holds the undo of step k < n - 1 at progress
+2n - 1 - k (entry n is 0, and the two runs of entries are one table when few zeros lie between),
+and the behaviour that acts has a second statement (the splitter may cut between the two)::
 
-    if (S_t > 0 && S_t < 14 && S < n) { S := 2n + 1 - S; S_t := 0; }
+    if (S_t > 0 && S_t < 14 && S < n) { S := 2n - S; S_t := 0; }
 
 after a failed act S_t still holds the step's code, on the step's module only: a failed step k
-sets 2n - k + 1 ("undo step k - 1 next") and is not tried again; past n a failed undo leaves S,
-and is read and tried again; 2n + 1 (rolled back) is outside every table. A parallel block of a
+sets 2n - k ("undo step k - 1 next") and is not tried again; past n a failed undo leaves S, and
+is read and tried again; 2n (rolled back) is outside every table. A parallel block of a
 rollback sequence runs one step after the other, so it takes the compact form too.
 
 Without rollback a parallel block of two steps (counted at b and b + 1, lower.py) takes the form
@@ -44,7 +44,7 @@ from __future__ import annotations
 
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS
-from rdcd_core.sequences.progress import is_rollback, progress_plan
+from rdcd_core.sequences.progress import is_rollback, progress_plan, undo_value
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 from vm.isa.opcodes import step_action
@@ -52,13 +52,15 @@ from vm.isa.opcodes import step_action
 CODES = 14  # a in 1..13; key * 14 + 13 <= 127 for a key up to 8
 MAX_KEY = (127 - (CODES - 1)) // CODES
 # entries of a table statement, the first after the relay: each statement fits a fragment's part
-FIRST, CHUNK = 9, 16
+# (43 bytes: the part's 11, the statement's 12 and 2 to go on to the next part leave 18; the last
+# part ends in 1 byte, so its statement holds 19)
+FIRST, CHUNK = 9, 18
 # one behaviour acts on every code (the DCD-VM's ACT, vm.isa.opcodes.step_action, decodes it):
 # one command number for the role's actions, where a behaviour per kind took three
 ACT = "if (self.act({t})) {{ {name} := {name} + 1; {t} := 0; }}"
 # rollback: after a failed act, S_t still holds the step's code (1..13) on the module of the step
 # only (ACT does nothing for any other value, a success sets it 0); at a forward step k (< n) the
-# progress goes to 2n - k + 1, "undo step k - 1 next", and the step is not tried again. An undo
+# progress goes to 2n - k, "undo step k - 1 next", and the step is not tried again. An undo
 # (progress > n) that fails leaves S_t to be read again: it is tried again.
 FAILED = "if ({t} > 0 && {t} < {codes} && {name} < {n}) {{ {name} := {back} - {name}; {t} := 0; }}"
 # zeros between the forward and the undo entries that cost less than a table statement of their own
@@ -158,8 +160,8 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     """(the table read after the relay, the key's startup statement, the behaviours that act) of
     ``role``'s steps, None when one of them has no compact code (its condition is not
     ``E == key``, or another E, or an argument outside the codes). ``rollback``: with n steps,
-    the table also holds the undo of step k at progress 2n - k, and the behaviour that acts sets
-    the progress to 2n - k + 1 when step k fails (lower.py's numbering, "Rolling back").
+    the table also holds the undo of step k < n - 1 at progress 2n - 1 - k, and the behaviour that
+    acts sets the progress to 2n - k when step k fails (progress.undo_value, "Rolling back").
     ``ahead`` (``ahead_steps``): a step k that acts from progress b on, the second of a parallel
     block (``steps`` in ``count_order``); its code is also in the lane, a second table the relay
     reads into ``S_a`` (at b the step's code), and the behaviour that acts counts it, acts on the
@@ -185,8 +187,8 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
             return None
         left.add(key[0])
         entries[k] = key[1] * CODES + code
-        if rollback:  # the undo of step k runs at progress 2n - k (lower.py)
-            entries[2 * n - k] = key[1] * CODES + undo
+        if rollback and k < n - 1:  # the undo of step k runs at 2n - 1 - k; the last step's never
+            entries[undo_value(n, k)] = key[1] * CODES + undo
         if k in ahead:
             lane[ahead[k]] = entries[k]
     if len(left) != 1:
@@ -195,11 +197,12 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
     # rollback: the undos in a second run of entries, 2n - k1..2n - k0 (one table indexed by
     # min(S, 2n - S) with the code turned into its undo's past n was measured larger: car_to_snake
     # 206 bytes and a fragment that cannot be split, against 168)
-    spans = [(k0, k1)] + ([(2 * n - k1, 2 * n - k0)] if rollback else [])
+    undos = [undo_value(n, k) for k, _ in mine if k < n - 1] if rollback else []
+    spans = [(k0, k1)] + ([(min(undos), max(undos))] if undos else [])
     t = f"{name}_t"
     side = left.pop()
     k = f"{name}_k"
-    reads = _reads(t, name, entries, _ranges(spans), f" - {k}" if side else "")
+    reads = _reads(t, name, entries, _ranges(spans), f" - {k}" if side else "", not lane)
     if lane:  # each block's first value, two runs joined when few zeros lie between
         runs = _ranges([(v, v) for v in sorted(lane)])
         reads += _reads(f"{name}_a", name, lane, runs, f" - {k}" if side else "")
@@ -214,20 +217,25 @@ def role_table(name: str, steps: list[ast.SeqStep], role: str, reverse: bool,
         act = " ".join([COUNT.format(d=f"{name}_par", t=t, name=name),
                         LANE.format(d=f"{name}_par", a=f"{name}_a", t=t), act])
     if rollback:  # a second statement, so that the splitter may cut between the two
-        act += " " + FAILED.format(t=t, name=name, n=n, back=2 * n + 1, codes=CODES)
+        act += " " + FAILED.format(t=t, name=name, n=n, back=2 * n, codes=CODES)
     acts = [(f"behavior {t}_{role}() {{ {act} }}", mine[0][1].span)]
     return read, startup, acts
 
 
 def _reads(state: str, name: str, entries: dict[int, int], ranges: list[tuple[int, int]],
-           minus: str) -> list[str]:
+           minus: str, ends: bool = True) -> list[str]:
     """The table statements that read ``state`` at the progress: the first into the state (less
-    the key, ``minus``), the others added; each table covers its range, 0 outside."""
+    the key, ``minus``), the others added; each table covers its range, 0 outside. ``ends``: the
+    last statement ends the relay, in a part with a byte to spare, which holds one entry more
+    rather than leave it to a statement of its own."""
     reads: list[str] = []  # the first statement follows the relay in the behaviour's first part
-    for first, last in ranges:
+    for i, (first, last) in enumerate(ranges):
         start = first
         while start <= last:
-            end = min(start + (CHUNK if reads else FIRST), last + 1)
+            size = CHUNK if reads else FIRST
+            if reads and ends and i == len(ranges) - 1 and last + 1 - start == CHUNK + 1:
+                size += 1
+            end = min(start + size, last + 1)
             values = ", ".join(str(entries.get(j, 0)) for j in range(start, end))
             index = f"{name} - {start}" if start else name
             reads.append(f"{state} := {state} + table({index}, {values});" if reads

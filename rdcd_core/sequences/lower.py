@@ -32,7 +32,7 @@ from typing import Any
 from rdcd_core.formatter import expr
 from rdcd_core.sequences.check import INVERSE, STEP_ACTIONS, stages
 from rdcd_core.sequences.compact import ahead_steps, applies, count_order, role_table
-from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan
+from rdcd_core.sequences.progress import Stage, is_rollback, progress_plan, undo_value
 from rdcd_core.source import Span
 from rdcd_core.syntax import ast
 
@@ -152,11 +152,13 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
                     add(step, step_code(name, stage.base, step, reverse),
                         step.condition is not None or step.action.text == "waitUntil")
     for k, step in enumerate(steps if rollback else ()):
-        # rollback: progress 2n - j means "undo step j next"; a failure at step k undoes k - 1 first,
-        # and 2n + 1 is "rolled back" — the progress still only grows, so max() still spreads it
-        add(step, step_code(name, k, step, reverse, failed=2 * n - k + 1), True)
-        if step.action.text != "waitUntil":  # a step with its failure branch fills a behaviour
-            add(step, step_code(name, k, step, not reverse, at=2 * n - k, then=2 * n - k + 1), True)
+        # rollback: progress 2n - 1 - j means "undo step j next"; a failure at step k undoes k - 1
+        # first, and 2n is "rolled back" — the progress still only grows, so max() still spreads
+        # it (progress.undo_value); the last step's undo never runs: nothing can fail after it
+        add(step, step_code(name, k, step, reverse, failed=undo_value(n, k - 1)), True)
+        if step.action.text != "waitUntil" and k < n - 1:  # with its failure branch: a behaviour
+            add(step, step_code(name, k, step, not reverse, at=undo_value(n, k),
+                                then=undo_value(n, k - 1)), True)
     for role, codes in by_role.items():
         chunks: list[list[tuple[str, Span, bool]]] = [[]]
         for item in codes:

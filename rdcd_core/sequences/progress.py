@@ -2,7 +2,7 @@
 done. Each stage takes a range of them, one value a step: the steps of a parallel block act at
 once and are counted in order (lower.py), so the progress when the sequence is done is its number
 of steps. With ``rollback`` the steps of a block run one after the other (the undo counts the
-steps done)."""
+steps done), and the values past the number of steps n say what to undo next (``undo_value``)."""
 
 from __future__ import annotations
 
@@ -64,3 +64,17 @@ def steps_done(sequence: ast.Sequence, value: int) -> int:
     """How many steps a progress value says are done (forward progress only): the value itself,
     at most the number of steps."""
     return max(0, min(value, done_value(sequence)))
+
+
+def undo_value(n: int, j: int) -> int:
+    """With ``rollback`` and n steps: the progress at which the undo of step j (0-based) runs,
+    2n - 1 - j, so that a failure at step k sets ``undo_value(n, k - 1)`` ("undo step k - 1
+    next", 2n - k) and each undo sets the next one's value, the progress still only growing.
+    The last step's undo (which would be n, "done") is never needed: a failure after it is
+    impossible. ``undo_value(n, -1)`` is ``rolled_back_value(n)``."""
+    return 2 * n - 1 - j
+
+
+def rolled_back_value(n: int) -> int:
+    """With ``rollback`` and n steps: the progress that says every step done has been undone."""
+    return undo_value(n, -1)

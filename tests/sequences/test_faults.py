@@ -100,7 +100,7 @@ def test_rollback_ends_in_the_start_shape(fault: str, failed: str, loss: float, 
     report, _ = run(RELATCH, [fault], loss=loss, seed=seed)
     assert failed in [e["kind"] for e in report["events"]]
     assert shape(report) == structure_shape(load_config("eight7"))
-    assert {m["final_state"]["relatch"] for m in report["modules"]} == {7}  # 2n + 1: rolled back
+    assert {m["final_state"]["relatch"] for m in report["modules"]} == {6}  # 2n: rolled back
 
 
 def test_without_a_fault_the_relatch_ends_in_the_target_shape() -> None:

@@ -7,7 +7,6 @@ protocol under any order of delivery and loss; the lattice runs; the limits said
 from __future__ import annotations
 
 import random
-import re
 from pathlib import Path
 
 import pytest
@@ -21,6 +20,7 @@ from rdcd_core.sequences.roles import vm_frames
 from rdcd_core.syntax import ast, parse
 from sim.config import load_config
 from sim.run import Options, simulate
+from tests.sequences.programs import without_blocks
 from tests.sequences.shapes import shape, structure_shape
 from vm.lattice.outside import parse_all
 
@@ -161,10 +161,6 @@ def test_the_summary_counts_the_steps_of_a_block(tmp_path: Path) -> None:
 
 EIGHT_TO_CAR = (HERE / "eight_to_car_parallel.rdcd").read_text()
 CAR_TO_SNAKE = (HERE / "car_to_snake_parallel.rdcd").read_text()
-
-
-def without_blocks(text: str) -> str:
-    return re.sub(r"\n  \}\n", "\n", re.sub(r"\n  parallel \{\n", "\n", text))
 
 
 def turning(report: dict) -> list[tuple[float, float]]:

@@ -99,7 +99,7 @@ def test_a_failed_step_rolls_back_to_the_start(loss: float, seed: int) -> None:
     kinds = [e["kind"] for e in report["events"] if e["kind"] in ("connect", "disconnect", "connect_failed")]
     assert kinds[0] == "disconnect" and "connect_failed" in kinds and kinds[-1] == "connect"
     assert shape(report) == structure_shape(load_config("eight7"))
-    assert {m["final_state"]["s"] for m in report["modules"]} == {5}  # 2n + 1: rolled back
+    assert {m["final_state"]["s"] for m in report["modules"]} == {4}  # 2n: rolled back
 
 
 def test_the_command_line_says_how_far_the_sequence_got(tmp_path: Path) -> None:
