@@ -61,6 +61,18 @@ def test_steps_without_a_compact_code_keep_the_ordinary_form(steps: str) -> None
     assert role_table("s", ordered_steps(program.sequences[0]), "R", False) is None
 
 
+@pytest.mark.parametrize("steps, sizes", [
+    (27, [9, 18]),
+    (28, [9, 19]),  # one entry more than a middle part holds: the last part, a byte to spare, takes it
+    (46, [9, 18, 19]),
+    (47, [9, 18, 18, 2]),
+])
+def test_the_relay_reads_the_table_in_parts_that_fit_a_fragment(steps: int, sizes: list[int]) -> None:
+    program = _sequence(" ".join(["R(self.x() == 1).connect(0);"] * steps))
+    read, _, _ = role_table("s", ordered_steps(program.sequences[0]), "R", False)
+    assert [len(part.split(",")) - 1 for part in read.split(";") if part.strip()] == sizes
+
+
 def test_the_table_backwards_is_the_undo_in_reverse_order() -> None:
     program = _sequence("R(self.x() == 1).disconnect(2); R(self.x() == 2).turnQuarters(1);")
     steps = program.sequences[0]
