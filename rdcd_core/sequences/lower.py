@@ -26,6 +26,7 @@ compiler points at the step.
 
 from __future__ import annotations
 
+import re
 from dataclasses import fields, is_dataclass, replace
 from typing import Any
 
@@ -216,9 +217,12 @@ def lower(program: ast.Program, reverse: str | None = None, compact: bool = Fals
         generated = members_for(sequence, [r for r in deployed if r in decls], parents,
                                 reverse == name, compact, (played or {}).get(name))
         if compact and applies(sequence) and not any(s.name.text == f"{name}_t" for s in program.states):
-            lane = [f"{name}_a"] if ahead_steps(sequence, reverse == name) else []
-            for added in (f"{name}_t", f"{name}_k", *lane):  # see compact.py
-                if not any(s.name.text == added for s in states):
+            # the tables' states (see compact.py), those the generated code uses: none when no
+            # role's steps took a table
+            code = " ".join(text for items in generated.values() for text, _ in items)
+            used = set(re.findall(r"\w+", code))
+            for added in (f"{name}_t", f"{name}_k", f"{name}_a"):
+                if added in used and not any(s.name.text == added for s in states):
                     states.append(_respan(_state(added), sequence.name.span))
         for role, items in generated.items():
             for text, span in items:

@@ -91,6 +91,13 @@ def test_compact_lowering_declares_its_states_once() -> None:
     assert names.count("s_t") == 1 and names.count("s_k") == 1
 
 
+def test_a_compact_lowering_without_tables_declares_none_of_their_states() -> None:
+    # key 9 has no code in a table: the ordinary form's code, and no s_t, s_k or lane s_a
+    program = _sequence("parallel { R(self.x() == 9).disconnect(2); R(self.x() == 2).disconnect(4); }")
+    names = [s.name.text for s in lower(program, compact=True).states]
+    assert "s" in names and not {"s_t", "s_k", "s_a"} & set(names)
+
+
 LONG_KEYS = """role Piece {
   self.z() <= 0;
 }
