@@ -8,7 +8,10 @@ import re
 from rdcd_core.ide.analysis import Analysis
 from rdcd_core.ide.states import assigning_methods, parameter_info, signature_text, state_symbol
 from rdcd_core.semantics.model import RoleKind
+from rdcd_core.sequences.check import steps_of
+from rdcd_core.sequences.progress import done_value, is_rollback, rolled_back_value, undo_value
 from rdcd_core.source import Span
+from rdcd_core.syntax import ast
 
 KEYWORD_DOCS = {
     "neighbours": (
@@ -77,6 +80,10 @@ def state_hover(analysis: Analysis, target: str) -> str | None:
     if symbol is None:
         return None
     name = symbol.name
+    sequence = next((q for q in analysis.program.sequences if q.name.text == name), None) \
+        if analysis.program is not None and symbol.owner is None else None
+    if sequence is not None and not any(d.name.text == name for d in analysis.program.states):
+        return progress_hover(sequence)
     if symbol.owner is None and symbol.travelling:
         lines = [f"**travelling state** `{name}` := {symbol.initial}", "",
                  f"module state whose value travels with the program: {symbol.initial} where it enters; "
@@ -104,6 +111,27 @@ def state_hover(analysis: Analysis, target: str) -> str | None:
     lines.append("assigned in: " + (", ".join(f"`{w}()`" for w in writers) if writers else "nowhere"))
     if symbol.index >= 0:
         lines.append(f"byte {symbol.index} of the module's state memory")
+    return "\n".join(lines)
+
+
+def progress_hover(sequence: ast.Sequence) -> str:
+    """The progress state a sequence declares (rdcd_core/sequences/lower.py): what its values
+    mean, as docs/reconfiguration.md "How it runs" and "Rolling back from a program" say."""
+    name = sequence.name.text
+    n = sum(1 for _ in steps_of(sequence))
+    done = done_value(sequence)
+    lines = [f"**progress** of sequence `{name}` := 0", "",
+             f"the number of steps done: 0 before the first, {done} when the sequence is done "
+             "(the steps of a parallel block are counted one by one)"]
+    if is_rollback(sequence) and n:
+        undos = ("" if n < 2 else f"{undo_value(n, 0)} says to undo step 1, " if n == 2 else
+                 f"{undo_value(n, n - 2)}..{undo_value(n, 0)} say which step to undo next "
+                 f"({undo_value(n, n - 2)}: step {n - 1}, {undo_value(n, 0)}: step 1), ")
+        lines.append(f"rolling back (`rollback`, after a step failed): {undos}"
+                     f"{rolled_back_value(n)}: rolled back")
+    lines.append(f"module state, published: every module takes the furthest value it hears of "
+                 f"(`max(neighbours.{name})`), and only the module of the next step moves it on")
+    lines.append(f"run backwards (`--reverse-sequence {name}`), the same values count the undos")
     return "\n".join(lines)
 
 

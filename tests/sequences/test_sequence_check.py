@@ -187,3 +187,24 @@ def test_a_role_invariant_on_the_progress_fits() -> None:
     result = check_text(text)
     assert not result.has_errors, [d.code for d in result.diagnostics]
     assert not [d for d in result.diagnostics if d.code in ("E601", "W601")]
+
+
+@pytest.mark.parametrize("steps, rollback, says", [
+    (1, False, ["0 before the first, 1 when the sequence is done"]),
+    (1, True, ["1 when the sequence is done", "after a step failed): 2: rolled back"]),
+    (2, True, ["3 says to undo step 1, 4: rolled back"]),
+    (3, True, ["3 when the sequence is done", "4..5 say which step to undo next (4: step 2, 5: step 1), "
+               "6: rolled back"]),
+])
+def test_hovering_the_progress_says_what_its_values_mean(steps: int, rollback: bool, says: list[str]) -> None:
+    from rdcd_core.ide.analysis import analyze
+    from rdcd_core.ide.hover import hover
+
+    body = " ".join(["R(self.x() == 1).connect(0);"] * steps)
+    text = (f"role R {{ self.x() >= 0; behavior b() {{ if (s == {steps}) self.setLed(1); }} }}\n"
+            f"sequence s {'rollback ' if rollback else ''}{{ {body} }}\ndeployment {{ R }}\n")
+    found = hover(analyze(text), text.index(f"s == {steps}"))
+    assert found is not None and found.markdown.startswith("**progress** of sequence `s`")
+    assert "module state, published" in found.markdown and "byte" not in found.markdown
+    for part in says:
+        assert part in found.markdown, found.markdown
