@@ -160,6 +160,8 @@ def members_for(sequence: ast.Sequence, deployed: list[str], parents: dict[str, 
         if step.action.text != "waitUntil" and k < n - 1:  # with its failure branch: a behaviour
             add(step, step_code(name, k, step, not reverse, at=undo_value(n, k),
                                 then=undo_value(n, k - 1)), True)
+        elif k < n - 1:  # a wait has nothing to undo: the rollback goes on past it at once
+            add(step, f"if ({name} == {undo_value(n, k)}) {{ {name} := {undo_value(n, k - 1)}; }}", False)
     for role, codes in by_role.items():
         chunks: list[list[tuple[str, Span, bool]]] = [[]]
         for item in codes:

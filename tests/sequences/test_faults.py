@@ -123,3 +123,15 @@ def test_an_undo_that_needs_a_jammed_latch_stays_in_between_and_says_so() -> Non
     # of the first would latch the jammed connector again: it is tried until the run ends
     done = rdcd("simulate", str(HERE / "relatch.rdcd"), *LATTICE, "--change", "3s:jam 2 0")
     assert done.returncode == 0 and "sequence relatch: rolling back (1 to undo)" in done.stdout, done.stderr
+
+
+@pytest.mark.parametrize("loss, seed", [(0.0, 0), (0.2, 3)])
+def test_a_rollback_goes_on_past_a_wait(loss: float, seed: int) -> None:
+    # a waitUntil step has nothing to undo: rolling back, the progress goes on past it (it once
+    # stopped there for good, "rolling back (2 to undo)")
+    text = RELATCH.replace("  LowerRight.disconnect(6);", "  LowerRight.waitUntil(1 == 1);")
+    assert "waitUntil" in text
+    report, _ = run(text, ["0s:fail 2 0"], loss=loss, seed=seed)
+    assert "connect_failed" in [e["kind"] for e in report["events"]]
+    assert shape(report) == structure_shape(load_config("eight7"))
+    assert {m["final_state"]["relatch"] for m in report["modules"]} == {6}  # 2n: rolled back
