@@ -205,10 +205,8 @@ def faults_for(text: str) -> list[str]:
 
 
 def main_rollback(args: argparse.Namespace) -> None:
-    eight = EIGHT.read_text().replace("sequence eightToSnake(eight7) {",
-                                      "sequence eightToSnake(eight7) rollback {")
-    car = CAR_TO_SNAKE.read_text().replace("sequence carToSnake(car7) {",
-                                           "sequence carToSnake(car7) rollback {")
+    eight = with_rollback(EIGHT.read_text())
+    car = with_rollback(CAR_TO_SNAKE.read_text())
     # eight_to_car's 23 steps alone: with rollback a block runs one step after the other
     eight_to_car = with_rollback(without_blocks(EIGHT_TO_CAR_STEPS.read_text()))
     cases = [("eight_to_snake (rollback)", eight), ("relatch", (DATA / "relatch.rdcd").read_text()),

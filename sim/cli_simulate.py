@@ -216,7 +216,7 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
     (docs/reconfiguration.md), so that a run that ran out of time, or lost every packet, says so."""
     from rdcd_core.inputs import InputError, read_source
     from rdcd_core.sequences.check import steps_of
-    from rdcd_core.sequences.progress import done_value, rolled_back_value, steps_done
+    from rdcd_core.sequences.progress import done_value, is_rollback, rolled_back_value, steps_done
     from rdcd_core.syntax import parse
 
     try:
@@ -230,7 +230,7 @@ def _sequence_lines(path: str, report: dict, reverse: str | None) -> list[str]:
         values = [v for v in values if isinstance(v, int)]
         if not values:
             continue
-        rollback = sequence.modifier is not None and sequence.modifier.text == "rollback"
+        rollback = is_rollback(sequence)
         low, high = min(values), max(values)
         way = " backwards" if reverse == name else ""
         if rollback and high > steps:  # progress.undo_value: 2n - 1 - j undoes step j next
